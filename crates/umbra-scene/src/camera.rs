@@ -1,0 +1,99 @@
+//! Perspective cameras, with an infinite-far variant (Everitt–Kilgard's P_inf).
+
+use glam::{Mat4, Vec3};
+use serde::{Deserialize, Serialize};
+
+/// A perspective camera looking from `position` at `target`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Camera {
+    /// Eye position.
+    pub position: Vec3,
+    /// Point looked at.
+    pub target: Vec3,
+    /// Up direction (need not be orthogonal to the view direction).
+    #[serde(default = "up")]
+    pub up: Vec3,
+    /// Vertical field of view in degrees.
+    #[serde(default = "fov")]
+    pub fov_y_deg: f32,
+    /// Near plane distance (> 0).
+    #[serde(default = "near")]
+    pub near: f32,
+    /// Far plane distance, or `None` for a far plane at infinity.
+    #[serde(default)]
+    pub far: Option<f32>,
+}
+
+fn up() -> Vec3 {
+    Vec3::Y
+}
+fn fov() -> f32 {
+    50.0
+}
+fn near() -> f32 {
+    0.05
+}
+
+impl Camera {
+    /// A camera at `position` looking at `target` with umbra's defaults (50°, near 0.05,
+    /// far 200).
+    pub fn look_at(position: Vec3, target: Vec3) -> Self {
+        Self {
+            position,
+            target,
+            up: Vec3::Y,
+            fov_y_deg: fov(),
+            near: near(),
+            far: Some(200.0),
+        }
+    }
+
+    /// World-to-view matrix (right-handed, looking down -Z).
+    pub fn view(&self) -> Mat4 {
+        let forward = (self.target - self.position).normalize_or_zero();
+        // Avoid a degenerate basis when looking along `up`.
+        let up = if forward.cross(self.up).length_squared() < 1e-8 {
+            forward.any_orthonormal_vector()
+        } else {
+            self.up
+        };
+        Mat4::look_at_rh(self.position, self.target, up)
+    }
+
+    /// View-to-clip matrix for Vulkan's 0 ≤ z ≤ w depth range (used with umbra's y-up
+    /// viewport). With `far == None` the far plane is at infinity: a point at infinity in front
+    /// of the eye lands exactly on depth 1.
+    pub fn projection(&self, aspect: f32) -> Mat4 {
+        let fov = self.fov_y_deg.to_radians();
+        match self.far {
+            Some(far) => Mat4::perspective_rh(fov, aspect, self.near, far),
+            None => Mat4::perspective_infinite_rh(fov, aspect, self.near),
+        }
+    }
+
+    /// Projection times view.
+    pub fn view_proj(&self, aspect: f32) -> Mat4 {
+        self.projection(aspect) * self.view()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec4;
+
+    #[test]
+    fn infinite_projection_puts_points_at_infinity_on_the_far_plane() {
+        let mut c = Camera::look_at(Vec3::ZERO, -Vec3::Z);
+        c.far = None;
+        let clip = c.view_proj(1.5) * Vec4::new(0.1, 0.2, -1.0, 0.0);
+        assert!(clip.w > 0.0);
+        assert!(
+            (clip.z / clip.w - 1.0).abs() < 1e-6,
+            "depth {}",
+            clip.z / clip.w
+        );
+        let near = c.view_proj(1.5) * Vec4::new(0.0, 0.0, -c.near, 1.0);
+        assert!((near.z / near.w).abs() < 1e-6);
+    }
+}

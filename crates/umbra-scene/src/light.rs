@@ -1,0 +1,137 @@
+//! Lights as homogeneous positions: directional w = 0, point and spot w = 1.
+
+use glam::{Vec3, Vec4};
+use serde::{Deserialize, Serialize};
+
+/// The shadow technique wanted for a light's shadows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Technique {
+    /// Lit without shadows.
+    #[default]
+    Unshadowed,
+    /// Shadow map (Williams).
+    ShadowMap,
+    /// Robust z-fail stenciled shadow volumes (Everitt–Kilgard).
+    ShadowVolume,
+    /// Shadow silhouette maps (Sen, Cammarano, Hanrahan).
+    SilhouetteMap,
+    /// Shadow volumes only at shadow-map silhouette pixels (Chan–Durand).
+    Hybrid,
+}
+
+impl Technique {
+    /// The snake_case name used in scene files and reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Technique::Unshadowed => "unshadowed",
+            Technique::ShadowMap => "shadow_map",
+            Technique::ShadowVolume => "shadow_volume",
+            Technique::SilhouetteMap => "silhouette_map",
+            Technique::Hybrid => "hybrid",
+        }
+    }
+}
+
+/// A spot light's cone.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Spot {
+    /// Axis the spot shines along (need not be unit).
+    pub direction: Vec3,
+    /// Full-intensity half-angle in degrees.
+    pub inner_deg: f32,
+    /// Cut-off half-angle in degrees (≥ inner).
+    pub outer_deg: f32,
+}
+
+/// What kind of light a [`Light`] is (derived from its position and cone).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LightKind {
+    /// At infinity (w = 0).
+    Directional,
+    /// Omnidirectional at a finite position.
+    Point,
+    /// A cone from a finite position.
+    Spot,
+}
+
+/// A light: a homogeneous position, an optional spot cone, colour and intensity.
+///
+/// For a directional light `position.xyz` points **towards** the light (OpenGL's convention).
+/// Point and spot radiance falls off with the squared distance.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Light {
+    /// Name (from glTF, the scene file or the generator).
+    pub name: String,
+    /// Homogeneous position; w = 0 for directional, w = 1 otherwise.
+    pub position: Vec4,
+    /// Spot cone (only with w = 1).
+    pub spot: Option<Spot>,
+    /// Linear RGB colour.
+    pub color: Vec3,
+    /// Intensity multiplier (a directional light's irradiance; candela for point and spot).
+    pub intensity: f32,
+    /// The shadow technique wanted for this light.
+    pub technique: Technique,
+}
+
+impl Light {
+    /// A directional light shining from `towards_light` (w = 0).
+    pub fn directional(towards_light: Vec3, intensity: f32) -> Self {
+        Self::at(towards_light.normalize_or_zero().extend(0.0), intensity)
+    }
+
+    /// A point light at `position` (w = 1).
+    pub fn point(position: Vec3, intensity: f32) -> Self {
+        Self::at(position.extend(1.0), intensity)
+    }
+
+    /// A spot light at `position` shining along `direction`.
+    pub fn spot(
+        position: Vec3,
+        direction: Vec3,
+        inner_deg: f32,
+        outer_deg: f32,
+        intensity: f32,
+    ) -> Self {
+        Self {
+            spot: Some(Spot {
+                direction,
+                inner_deg,
+                outer_deg: outer_deg.max(inner_deg),
+            }),
+            ..Self::point(position, intensity)
+        }
+    }
+
+    fn at(position: Vec4, intensity: f32) -> Self {
+        Self {
+            name: String::new(),
+            position,
+            spot: None,
+            color: Vec3::ONE,
+            intensity,
+            technique: Technique::default(),
+        }
+    }
+
+    /// The kind, from w and the cone.
+    pub fn kind(&self) -> LightKind {
+        match (self.position.w == 0.0, self.spot.is_some()) {
+            (true, _) => LightKind::Directional,
+            (false, true) => LightKind::Spot,
+            (false, false) => LightKind::Point,
+        }
+    }
+
+    /// Colour times intensity.
+    pub fn radiance(&self) -> Vec3 {
+        self.color * self.intensity
+    }
+
+    /// Whether this light can change the image at all (non-zero radiance).
+    pub fn contributes(&self) -> bool {
+        self.radiance().max_element() > 0.0
+    }
+}

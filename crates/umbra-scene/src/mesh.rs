@@ -1,0 +1,259 @@
+//! Triangle meshes: positions, normals and `u32` indices.
+
+use crate::error::{SceneError, SceneResult};
+use glam::{Mat3, Mat4, Vec3};
+
+/// An axis-aligned bounding box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    /// Minimum corner.
+    pub min: Vec3,
+    /// Maximum corner.
+    pub max: Vec3,
+}
+
+impl Aabb {
+    /// The empty box (min = +inf, max = -inf); growing it by a point gives that point.
+    pub const EMPTY: Self = Self {
+        min: Vec3::splat(f32::INFINITY),
+        max: Vec3::splat(f32::NEG_INFINITY),
+    };
+
+    /// Grows the box to contain `p`.
+    pub fn grow(&mut self, p: Vec3) {
+        self.min = self.min.min(p);
+        self.max = self.max.max(p);
+    }
+
+    /// The union of two boxes.
+    pub fn union(self, other: Aabb) -> Aabb {
+        Aabb {
+            min: self.min.min(other.min),
+            max: self.max.max(other.max),
+        }
+    }
+
+    /// Whether nothing was added.
+    pub fn is_empty(&self) -> bool {
+        self.min.x > self.max.x
+    }
+
+    /// Centre point.
+    pub fn center(&self) -> Vec3 {
+        (self.min + self.max) * 0.5
+    }
+
+    /// Half the diagonal (a bounding-sphere radius around the centre).
+    pub fn radius(&self) -> f32 {
+        (self.max - self.min).length() * 0.5
+    }
+
+    /// The box of the eight corners transformed by `m`.
+    pub fn transformed(&self, m: &Mat4) -> Aabb {
+        let mut out = Aabb::EMPTY;
+        for i in 0..8 {
+            let c = Vec3::new(
+                if i & 1 == 0 { self.min.x } else { self.max.x },
+                if i & 2 == 0 { self.min.y } else { self.max.y },
+                if i & 4 == 0 { self.min.z } else { self.max.z },
+            );
+            out.grow(m.transform_point3(c));
+        }
+        out
+    }
+}
+
+/// An indexed triangle mesh. Front faces wind counter-clockwise.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    /// Name (from glTF, the scene file or the generator).
+    pub name: String,
+    /// Vertex positions.
+    pub positions: Vec<Vec3>,
+    /// Unit vertex normals, one per position.
+    pub normals: Vec<Vec3>,
+    /// Triangle list indices into `positions`.
+    pub indices: Vec<u32>,
+}
+
+impl Mesh {
+    /// A mesh from parts, checked: as many normals as positions, indices in range and a
+    /// multiple of three, finite positions.
+    pub fn new(
+        name: impl Into<String>,
+        positions: Vec<Vec3>,
+        normals: Vec<Vec3>,
+        indices: Vec<u32>,
+    ) -> SceneResult<Self> {
+        let mesh = Self {
+            name: name.into(),
+            positions,
+            normals,
+            indices,
+        };
+        mesh.validate()?;
+        Ok(mesh)
+    }
+
+    /// A mesh without normals: every triangle gets its own three vertices carrying the face
+    /// normal (flat shading, as glTF requires when `NORMAL` is absent).
+    pub fn with_flat_normals(
+        name: impl Into<String>,
+        positions: &[Vec3],
+        indices: &[u32],
+    ) -> SceneResult<Self> {
+        let name = name.into();
+        check_indices(&name, positions.len(), indices)?;
+        let mut out = Self {
+            name,
+            ..Default::default()
+        };
+        for tri in indices.chunks_exact(3) {
+            let [a, b, c] = [0, 1, 2].map(|k| positions[tri[k] as usize]);
+            let n = (b - a).cross(c - a).normalize_or_zero();
+            let base = out.positions.len() as u32;
+            out.positions.extend([a, b, c]);
+            out.normals.extend([n, n, n]);
+            out.indices.extend([base, base + 1, base + 2]);
+        }
+        out.validate()?;
+        Ok(out)
+    }
+
+    /// A mesh with smooth normals: area-weighted averages of the faces around each vertex.
+    pub fn with_smooth_normals(
+        name: impl Into<String>,
+        positions: Vec<Vec3>,
+        indices: Vec<u32>,
+    ) -> SceneResult<Self> {
+        let name = name.into();
+        check_indices(&name, positions.len(), &indices)?;
+        let mut normals = vec![Vec3::ZERO; positions.len()];
+        for tri in indices.chunks_exact(3) {
+            let [a, b, c] = [0, 1, 2].map(|k| positions[tri[k] as usize]);
+            let n = (b - a).cross(c - a);
+            for &i in tri {
+                normals[i as usize] += n;
+            }
+        }
+        let normals = normals
+            .into_iter()
+            .map(|n| n.try_normalize().unwrap_or(Vec3::Y))
+            .collect();
+        Self::new(name, positions, normals, indices)
+    }
+
+    /// Number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len() / 3
+    }
+
+    /// Bounding box of the positions.
+    pub fn bounds(&self) -> Aabb {
+        let mut b = Aabb::EMPTY;
+        for &p in &self.positions {
+            b.grow(p);
+        }
+        b
+    }
+
+    /// Transforms positions by `m` and normals by its inverse transpose (in place).
+    pub fn transform(&mut self, m: Mat4) {
+        let normal_matrix = Mat3::from_mat4(m).inverse().transpose();
+        for p in &mut self.positions {
+            *p = m.transform_point3(*p);
+        }
+        for n in &mut self.normals {
+            *n = (normal_matrix * *n).normalize_or_zero();
+        }
+        if m.determinant() < 0.0 {
+            for tri in self.indices.chunks_exact_mut(3) {
+                tri.swap(1, 2);
+            }
+        }
+    }
+
+    /// This mesh transformed by `m` (see [`Mesh::transform`]).
+    pub fn transformed(mut self, m: Mat4) -> Self {
+        self.transform(m);
+        self
+    }
+
+    /// Appends another mesh's triangles.
+    pub fn append(&mut self, other: &Mesh) {
+        let base = self.positions.len() as u32;
+        self.positions.extend_from_slice(&other.positions);
+        self.normals.extend_from_slice(&other.normals);
+        self.indices.extend(other.indices.iter().map(|i| i + base));
+    }
+
+    /// Checks the invariants listed on [`Mesh::new`].
+    pub fn validate(&self) -> SceneResult<()> {
+        let bad = |why: String| {
+            Err(SceneError::InvalidMesh {
+                mesh: self.name.clone(),
+                why,
+            })
+        };
+        if self.normals.len() != self.positions.len() {
+            return bad(format!(
+                "{} normals for {} positions",
+                self.normals.len(),
+                self.positions.len()
+            ));
+        }
+        if let Some(i) = self.positions.iter().position(|p| !p.is_finite()) {
+            return bad(format!("position {i} is not finite"));
+        }
+        check_indices(&self.name, self.positions.len(), &self.indices)
+    }
+}
+
+fn check_indices(name: &str, vertices: usize, indices: &[u32]) -> SceneResult<()> {
+    let bad = |why: String| {
+        Err(SceneError::InvalidMesh {
+            mesh: name.to_owned(),
+            why,
+        })
+    };
+    if indices.len() % 3 != 0 {
+        return bad(format!("{} indices is not a multiple of 3", indices.len()));
+    }
+    if let Some(&i) = indices.iter().find(|&&i| i as usize >= vertices) {
+        return bad(format!("index {i} out of range for {vertices} vertices"));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flat_normals_follow_counter_clockwise_winding() {
+        let p = [Vec3::ZERO, Vec3::X, Vec3::Z];
+        let m = Mesh::with_flat_normals("t", &p, &[0, 2, 1]).unwrap();
+        assert_eq!(m.normals, vec![Vec3::Y; 3]);
+        assert_eq!(m.triangle_count(), 1);
+    }
+
+    #[test]
+    fn out_of_range_index_is_an_error() {
+        let e = Mesh::new("bad", vec![Vec3::ZERO], vec![Vec3::Y], vec![0, 0, 1]).unwrap_err();
+        assert!(e.to_string().contains("out of range"), "{e}");
+    }
+
+    #[test]
+    fn mirroring_keeps_faces_outward() {
+        let p = [Vec3::ZERO, Vec3::Z, Vec3::X];
+        let m = Mesh::with_flat_normals("t", &p, &[0, 1, 2])
+            .unwrap()
+            .transformed(Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0)));
+        let [a, b, c] = [0, 1, 2].map(|k| m.positions[m.indices[k] as usize]);
+        let face = (b - a).cross(c - a).normalize();
+        assert!(
+            face.dot(m.normals[0]) > 0.99,
+            "winding and normal agree after a mirror"
+        );
+    }
+}

@@ -1,0 +1,149 @@
+//! A scene: meshes, placed objects, lights, a camera.
+
+use crate::{Aabb, Camera, Light, Mesh};
+use glam::{Mat4, Vec3};
+
+/// One placed instance of a mesh.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Object {
+    /// Name.
+    pub name: String,
+    /// Index into [`Scene::meshes`].
+    pub mesh: usize,
+    /// Object-to-world transform.
+    pub transform: Mat4,
+    /// Linear RGB diffuse reflectance.
+    pub albedo: Vec3,
+    /// Whether it occludes lights (is a shadow caster).
+    pub casts_shadows: bool,
+    /// Whether shadows fall on it.
+    pub receives_shadows: bool,
+}
+
+/// Everything a frame renders.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    /// Name (procedural name or file stem).
+    pub name: String,
+    /// Mesh library; objects refer to it by index.
+    pub meshes: Vec<Mesh>,
+    /// Placed objects.
+    pub objects: Vec<Object>,
+    /// Lights.
+    pub lights: Vec<Light>,
+    /// The camera.
+    pub camera: Camera,
+    /// Linear RGB ambient light (added once, unshadowed).
+    pub ambient: Vec3,
+    /// Linear RGB clear colour.
+    pub background: Vec3,
+}
+
+impl Default for Scene {
+    fn default() -> Self {
+        Self {
+            name: "scene".into(),
+            meshes: Vec::new(),
+            objects: Vec::new(),
+            lights: Vec::new(),
+            camera: Camera::look_at(Vec3::new(0.0, 2.0, 6.0), Vec3::ZERO),
+            ambient: Vec3::splat(0.08),
+            background: Vec3::new(0.02, 0.02, 0.03),
+        }
+    }
+}
+
+impl Scene {
+    /// An empty scene with defaults (camera, ambient, background).
+    pub fn new(name: impl Into<String>) -> Self {
+        Self {
+            name: name.into(),
+            ..Default::default()
+        }
+    }
+
+    /// Adds a mesh to the library and returns its index.
+    pub fn add_mesh(&mut self, mesh: Mesh) -> usize {
+        self.meshes.push(mesh);
+        self.meshes.len() - 1
+    }
+
+    /// Places mesh `mesh` with `transform` and `albedo`, casting and receiving shadows.
+    pub fn add_object(&mut self, mesh: usize, transform: Mat4, albedo: Vec3) -> &mut Object {
+        let name = self
+            .meshes
+            .get(mesh)
+            .map(|m| m.name.clone())
+            .unwrap_or_default();
+        self.objects.push(Object {
+            name,
+            mesh,
+            transform,
+            albedo,
+            casts_shadows: true,
+            receives_shadows: true,
+        });
+        let last = self.objects.len() - 1;
+        &mut self.objects[last]
+    }
+
+    /// Triangles drawn per pass (instances counted).
+    pub fn triangle_count(&self) -> usize {
+        self.objects
+            .iter()
+            .filter_map(|o| self.meshes.get(o.mesh))
+            .map(Mesh::triangle_count)
+            .sum()
+    }
+
+    /// World-space bounds of every object.
+    pub fn bounds(&self) -> Aabb {
+        self.objects
+            .iter()
+            .filter_map(|o| {
+                self.meshes
+                    .get(o.mesh)
+                    .map(|m| m.bounds().transformed(&o.transform))
+            })
+            .fold(Aabb::EMPTY, Aabb::union)
+    }
+
+    /// Points the camera at the scene from the front-right-above, far enough to see it all.
+    pub fn frame_camera(&mut self) {
+        let b = self.bounds();
+        if b.is_empty() {
+            return;
+        }
+        let (c, r) = (b.center(), b.radius().max(1e-3));
+        let dir = Vec3::new(0.55, 0.45, 1.0).normalize();
+        let distance = r / (self.camera.fov_y_deg.to_radians() * 0.5).sin() * 1.05;
+        self.camera.position = c + dir * distance;
+        self.camera.target = c;
+        self.camera.near = (distance - r).max(distance * 1e-3);
+        self.camera.far = Some(distance + r * 2.0);
+    }
+
+    /// Adds a key directional light from above-left when the scene has no light at all, so a
+    /// bare mesh file still shows its shape.
+    pub fn ensure_light(&mut self) {
+        if self.lights.is_empty() {
+            let mut l = Light::directional(Vec3::new(-0.4, 1.0, 0.6), 1.0);
+            l.name = "default key light".into();
+            self.lights.push(l);
+        }
+    }
+
+    /// Checks that every object's mesh exists and every mesh is valid.
+    pub fn validate(&self) -> crate::SceneResult<()> {
+        for m in &self.meshes {
+            m.validate()?;
+        }
+        if let Some(o) = self.objects.iter().find(|o| o.mesh >= self.meshes.len()) {
+            return Err(crate::SceneError::InvalidMesh {
+                mesh: o.name.clone(),
+                why: format!("object refers to mesh {} of {}", o.mesh, self.meshes.len()),
+            });
+        }
+        Ok(())
+    }
+}

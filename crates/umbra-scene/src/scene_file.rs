@@ -1,0 +1,293 @@
+//! umbra's TOML scene files.
+//!
+//! ```toml
+//! name = "demo"
+//! ambient = [0.08, 0.08, 0.08]
+//!
+//! [camera]
+//! position = [4.0, 3.0, 6.0]
+//! target = [0.0, 0.5, 0.0]
+//! fov_y_deg = 50.0
+//! far = 100.0            # omit for a far plane at infinity
+//!
+//! [[mesh]]
+//! name = "floor"
+//! kind = "box"           # plane | box | sphere | cylinder | file
+//! half = [5.0, 0.05, 5.0]
+//!
+//! [[mesh]]
+//! name = "bunny"
+//! kind = "file"
+//! path = "../shared/assets/stanford-bunny.glb"   # relative to the scene file
+//!
+//! [[object]]
+//! mesh = "bunny"
+//! translation = [0.0, -0.2, 0.0]
+//! rotation_deg = [0.0, 30.0, 0.0]
+//! scale = 10.0           # or [x, y, z]
+//! albedo = [0.8, 0.7, 0.6]
+//!
+//! [[light]]
+//! kind = "point"         # directional | point | spot
+//! position = [2.0, 6.0, 1.0]
+//! intensity = 40.0
+//! technique = "unshadowed"
+//! ```
+
+use crate::error::{SceneError, SceneResult};
+use crate::primitives;
+use crate::{Camera, Light, Mesh, Scene, Spot, Technique};
+use glam::{EulerRot, Mat4, Quat, Vec3};
+use serde::Deserialize;
+use std::path::Path;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct File {
+    name: Option<String>,
+    ambient: Option<Vec3>,
+    background: Option<Vec3>,
+    camera: Option<Camera>,
+    #[serde(default)]
+    mesh: Vec<MeshEntry>,
+    #[serde(default)]
+    object: Vec<ObjectEntry>,
+    #[serde(default)]
+    light: Vec<LightEntry>,
+}
+
+#[derive(Deserialize)]
+struct MeshEntry {
+    name: String,
+    #[serde(flatten)]
+    source: MeshSource,
+}
+
+#[derive(Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+enum MeshSource {
+    Plane {
+        size: f32,
+    },
+    Box {
+        half: Vec3,
+    },
+    Sphere {
+        radius: f32,
+        segments: Option<u32>,
+        rings: Option<u32>,
+    },
+    Cylinder {
+        radius: f32,
+        height: f32,
+        segments: Option<u32>,
+    },
+    File {
+        path: String,
+    },
+}
+
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum Scale {
+    Uniform(f32),
+    Axes(Vec3),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ObjectEntry {
+    mesh: String,
+    name: Option<String>,
+    translation: Option<Vec3>,
+    rotation_deg: Option<Vec3>,
+    scale: Option<Scale>,
+    albedo: Option<Vec3>,
+    casts_shadows: Option<bool>,
+    receives_shadows: Option<bool>,
+}
+
+#[derive(Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum Kind {
+    Directional,
+    Point,
+    Spot,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LightEntry {
+    kind: Kind,
+    name: Option<String>,
+    position: Option<Vec3>,
+    direction: Option<Vec3>,
+    inner_deg: Option<f32>,
+    outer_deg: Option<f32>,
+    color: Option<Vec3>,
+    intensity: Option<f32>,
+    technique: Option<Technique>,
+}
+
+/// Loads a TOML scene file; mesh `path`s are relative to the file's folder.
+pub fn load_scene_file(path: &Path) -> SceneResult<Scene> {
+    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+        path: path.to_owned(),
+        source,
+    })?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    parse_scene(&text, dir, &stem).map_err(|message| SceneError::SceneFile {
+        path: path.to_owned(),
+        message,
+    })
+}
+
+/// Parses scene-file text; `dir` resolves mesh paths.
+pub fn parse_scene(text: &str, dir: &Path, default_name: &str) -> Result<Scene, String> {
+    let file: File = toml::from_str(text).map_err(|e| e.to_string())?;
+    let mut scene = Scene::new(file.name.unwrap_or_else(|| default_name.to_owned()));
+    scene.ambient = file.ambient.unwrap_or(scene.ambient);
+    scene.background = file.background.unwrap_or(scene.background);
+    let mut names = Vec::new();
+    for entry in file.mesh {
+        let mut mesh =
+            build_mesh(&entry.source, dir).map_err(|e| format!("mesh {:?}: {e}", entry.name))?;
+        mesh.name = entry.name.clone();
+        names.push(entry.name);
+        scene.add_mesh(mesh);
+    }
+    for o in file.object {
+        let id = names
+            .iter()
+            .position(|n| *n == o.mesh)
+            .ok_or_else(|| format!("object refers to unknown mesh {:?}", o.mesh))?;
+        let r = o.rotation_deg.unwrap_or(Vec3::ZERO);
+        let rotation = Quat::from_euler(
+            EulerRot::XYZ,
+            r.x.to_radians(),
+            r.y.to_radians(),
+            r.z.to_radians(),
+        );
+        let scale = match o.scale {
+            None => Vec3::ONE,
+            Some(Scale::Uniform(s)) => Vec3::splat(s),
+            Some(Scale::Axes(v)) => v,
+        };
+        let transform = Mat4::from_scale_rotation_translation(
+            scale,
+            rotation,
+            o.translation.unwrap_or(Vec3::ZERO),
+        );
+        let obj = scene.add_object(id, transform, o.albedo.unwrap_or(Vec3::splat(0.8)));
+        obj.name = o.name.unwrap_or(o.mesh);
+        obj.casts_shadows = o.casts_shadows.unwrap_or(true);
+        obj.receives_shadows = o.receives_shadows.unwrap_or(true);
+    }
+    for l in file.light {
+        scene.lights.push(build_light(l)?);
+    }
+    match file.camera {
+        Some(c) => scene.camera = c,
+        None => scene.frame_camera(),
+    }
+    scene.validate().map_err(|e| e.to_string())?;
+    Ok(scene)
+}
+
+fn build_mesh(source: &MeshSource, dir: &Path) -> Result<Mesh, String> {
+    Ok(match *source {
+        MeshSource::Plane { size } => primitives::plane(size),
+        MeshSource::Box { half } => primitives::cuboid(half),
+        MeshSource::Sphere {
+            radius,
+            segments,
+            rings,
+        } => primitives::sphere(radius, segments.unwrap_or(48), rings.unwrap_or(24)),
+        MeshSource::Cylinder {
+            radius,
+            height,
+            segments,
+        } => primitives::cylinder(radius, height, segments.unwrap_or(48)),
+        MeshSource::File { ref path } => {
+            // A whole glTF file becomes one mesh, its node transforms baked in.
+            let sub = crate::import_gltf(&dir.join(path)).map_err(|e| e.to_string())?;
+            let mut merged = Mesh::default();
+            for o in &sub.objects {
+                merged.append(&sub.meshes[o.mesh].clone().transformed(o.transform));
+            }
+            merged
+        }
+    })
+}
+
+fn build_light(l: LightEntry) -> Result<Light, String> {
+    let need = |v: Option<Vec3>, what: &str| v.ok_or_else(|| format!("light needs `{what}`"));
+    let intensity = l.intensity.unwrap_or(1.0);
+    let mut light = match l.kind {
+        Kind::Directional => Light::directional(need(l.direction, "direction")?, intensity),
+        Kind::Point => Light::point(need(l.position, "position")?, intensity),
+        Kind::Spot => {
+            let mut s = Light::point(need(l.position, "position")?, intensity);
+            let outer = l.outer_deg.unwrap_or(30.0);
+            s.spot = Some(Spot {
+                direction: need(l.direction, "direction")?,
+                inner_deg: l.inner_deg.unwrap_or(outer * 0.8),
+                outer_deg: outer,
+            });
+            s
+        }
+    };
+    light.color = l.color.unwrap_or(Vec3::ONE);
+    light.technique = l.technique.unwrap_or_default();
+    light.name = l.name.unwrap_or_default();
+    Ok(light)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_scene_file_builds_meshes_objects_lights_and_camera() {
+        let text = r#"
+            name = "t"
+            [camera]
+            position = [0, 2, 5]
+            target = [0, 0, 0]
+            [[mesh]]
+            name = "floor"
+            kind = "box"
+            half = [5, 0.05, 5]
+            [[object]]
+            mesh = "floor"
+            translation = [0, -0.05, 0]
+            scale = 2
+            [[light]]
+            kind = "spot"
+            position = [0, 4, 0]
+            direction = [0, -1, 0]
+            outer_deg = 25
+            technique = "shadow_map"
+        "#;
+        let s = parse_scene(text, Path::new("."), "x").unwrap();
+        assert_eq!(s.name, "t");
+        assert_eq!(s.objects.len(), 1);
+        assert_eq!(s.lights[0].kind(), crate::LightKind::Spot);
+        assert_eq!(s.lights[0].technique, Technique::ShadowMap);
+        assert_eq!(s.camera.far, None, "no far given: infinite");
+        assert!((s.bounds().max.x - 10.0).abs() < 1e-5);
+    }
+
+    #[test]
+    fn errors_name_the_problem() {
+        let e = parse_scene("[[object]]\nmesh = \"nope\"\n", Path::new("."), "x").unwrap_err();
+        assert!(e.contains("unknown mesh"), "{e}");
+        let e = parse_scene("[[light]]\nkind = \"point\"\n", Path::new("."), "x").unwrap_err();
+        assert!(e.contains("position"), "{e}");
+        assert!(parse_scene("bogus = 1", Path::new("."), "x").is_err());
+    }
+}

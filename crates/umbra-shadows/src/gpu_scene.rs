@@ -1,0 +1,255 @@
+//! A scene uploaded to the GPU: one vertex and one index buffer for every mesh, the object and
+//! light storage buffers, the frame uniforms, and the descriptor set that binds them.
+//! Layouts mirror `shaders-glsl/common/scene.glsl`.
+
+use crate::RenderResult;
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec3};
+use umbra_scene::{Mesh, Scene};
+use umbra_vk::{
+    vk, Binding, Buffer, Context, DescriptorSet, DescriptorSetLayout, Resource, VertexAttribute,
+};
+
+/// Interleaved vertex: position then normal.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+pub(crate) struct Vertex {
+    position: [f32; 3],
+    normal: [f32; 3],
+}
+
+/// Vertex layout of [`Vertex`] at binding 0.
+pub(crate) const VERTEX_ATTRIBUTES: [VertexAttribute; 2] = [
+    VertexAttribute {
+        location: 0,
+        format: vk::Format::R32G32B32_SFLOAT,
+        offset: 0,
+    },
+    VertexAttribute {
+        location: 1,
+        format: vk::Format::R32G32B32_SFLOAT,
+        offset: 12,
+    },
+];
+
+/// Bytes per vertex.
+pub(crate) const VERTEX_STRIDE: u32 = std::mem::size_of::<Vertex>() as u32;
+
+/// `Frame` uniform block (std140).
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct FrameUniforms {
+    view_proj: [f32; 16],
+    camera_position: [f32; 4],
+    ambient: [f32; 4],
+}
+
+/// One `Object` (std430).
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct GpuObject {
+    model: [f32; 16],
+    normal_matrix: [f32; 16],
+    albedo: [f32; 4],
+}
+
+/// One `Light` (std430).
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct GpuLight {
+    position: [f32; 4],
+    radiance: [f32; 4],
+    spot_direction: [f32; 4],
+    spot_params: [f32; 4],
+}
+
+/// Push constants of the forward passes.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+pub(crate) struct DrawPush {
+    /// Index into the object buffer.
+    pub object: u32,
+    /// Index into the light buffer.
+    pub light: u32,
+}
+
+/// Where one mesh's indices and vertices sit in the shared buffers.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct MeshRange {
+    pub first_index: u32,
+    pub index_count: u32,
+    pub vertex_offset: i32,
+}
+
+/// The scene's GPU buffers and descriptor set.
+pub(crate) struct GpuScene {
+    pub vertices: Buffer,
+    pub indices: Buffer,
+    pub meshes: Vec<MeshRange>,
+    /// Held for the descriptor set's lifetime.
+    _buffers: [Buffer; 3],
+    pub set: DescriptorSet,
+}
+
+/// The set-0 layout every forward pass uses.
+pub(crate) fn scene_set_layout(ctx: &Context) -> RenderResult<DescriptorSetLayout> {
+    let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+    Ok(DescriptorSetLayout::new(
+        ctx,
+        "scene set layout",
+        &[
+            Binding {
+                binding: 0,
+                ty: vk::DescriptorType::UNIFORM_BUFFER,
+                stages,
+            },
+            Binding {
+                binding: 1,
+                ty: vk::DescriptorType::STORAGE_BUFFER,
+                stages,
+            },
+            Binding {
+                binding: 2,
+                ty: vk::DescriptorType::STORAGE_BUFFER,
+                stages,
+            },
+        ],
+    )?)
+}
+
+impl GpuScene {
+    /// Uploads `scene` as seen with `aspect` (width / height).
+    pub fn upload(
+        ctx: &Context,
+        layout: &DescriptorSetLayout,
+        scene: &Scene,
+        aspect: f32,
+    ) -> RenderResult<Self> {
+        scene.validate()?;
+        let (vertices, indices, meshes) = pack_meshes(&scene.meshes);
+        let usage = vk::BufferUsageFlags::VERTEX_BUFFER;
+        let vertices = Buffer::with_data(
+            ctx,
+            "scene vertices",
+            usage,
+            nonempty(bytemuck::cast_slice(&vertices)),
+        )?;
+        let indices = Buffer::with_data(
+            ctx,
+            "scene indices",
+            vk::BufferUsageFlags::INDEX_BUFFER,
+            nonempty(bytemuck::cast_slice(&indices)),
+        )?;
+
+        let c = &scene.camera;
+        let frame = FrameUniforms {
+            view_proj: c.view_proj(aspect).to_cols_array(),
+            camera_position: c.position.extend(1.0).to_array(),
+            ambient: scene.ambient.extend(0.0).to_array(),
+        };
+        let objects: Vec<GpuObject> = scene
+            .objects
+            .iter()
+            .map(|o| GpuObject {
+                model: o.transform.to_cols_array(),
+                normal_matrix: normal_matrix(o.transform).to_cols_array(),
+                albedo: o.albedo.extend(1.0).to_array(),
+            })
+            .collect();
+        let lights: Vec<GpuLight> = scene
+            .lights
+            .iter()
+            .map(|l| {
+                let spot = l.spot.unwrap_or(umbra_scene::Spot {
+                    direction: -Vec3::Y,
+                    inner_deg: 180.0,
+                    outer_deg: 180.0,
+                });
+                GpuLight {
+                    position: l.position.to_array(),
+                    radiance: l.radiance().extend(0.0).to_array(),
+                    spot_direction: spot
+                        .direction
+                        .extend(spot.outer_deg.to_radians().cos())
+                        .to_array(),
+                    spot_params: [
+                        spot.inner_deg.to_radians().cos(),
+                        if l.spot.is_some() { 1.0 } else { 0.0 },
+                        0.0,
+                        0.0,
+                    ],
+                }
+            })
+            .collect();
+        let frame = Buffer::with_data(
+            ctx,
+            "frame uniforms",
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            bytemuck::bytes_of(&frame),
+        )?;
+        let ssbo = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let objects = Buffer::with_data(
+            ctx,
+            "objects",
+            ssbo,
+            nonempty(bytemuck::cast_slice(&objects)),
+        )?;
+        let lights =
+            Buffer::with_data(ctx, "lights", ssbo, nonempty(bytemuck::cast_slice(&lights)))?;
+        let set = DescriptorSet::new(
+            ctx,
+            "scene set",
+            layout,
+            &[
+                Resource::Buffer(&frame),
+                Resource::Buffer(&objects),
+                Resource::Buffer(&lights),
+            ],
+        )?;
+        Ok(Self {
+            vertices,
+            indices,
+            meshes,
+            _buffers: [frame, objects, lights],
+            set,
+        })
+    }
+}
+
+/// Inverse transpose of the model matrix (normals stay perpendicular under non-uniform scale).
+fn normal_matrix(model: Mat4) -> Mat4 {
+    let m = glam::Mat3::from_mat4(model);
+    if m.determinant().abs() < 1e-20 {
+        return Mat4::IDENTITY;
+    }
+    Mat4::from_mat3(m.inverse().transpose())
+}
+
+/// Buffers may not be empty: an empty scene still uploads a few zero bytes (never drawn).
+fn nonempty(bytes: &[u8]) -> &[u8] {
+    const ZEROS: [u8; 16] = [0; 16];
+    if bytes.is_empty() {
+        &ZEROS
+    } else {
+        bytes
+    }
+}
+
+fn pack_meshes(meshes: &[Mesh]) -> (Vec<Vertex>, Vec<u32>, Vec<MeshRange>) {
+    let mut vertices = Vec::with_capacity(meshes.iter().map(|m| m.positions.len()).sum());
+    let mut indices = Vec::with_capacity(meshes.iter().map(|m| m.indices.len()).sum());
+    let mut ranges = Vec::with_capacity(meshes.len());
+    for m in meshes {
+        ranges.push(MeshRange {
+            first_index: indices.len() as u32,
+            index_count: m.indices.len() as u32,
+            vertex_offset: vertices.len() as i32,
+        });
+        vertices.extend(m.positions.iter().zip(&m.normals).map(|(p, n)| Vertex {
+            position: p.to_array(),
+            normal: n.to_array(),
+        }));
+        indices.extend_from_slice(&m.indices);
+    }
+    (vertices, indices, ranges)
+}

@@ -1,0 +1,25 @@
+//! # umbra-shadows — the renderer and the shadow technique modules
+//!
+//! [`Renderer`] renders a [`umbra_scene::Scene`] into a headless target: a depth + ambient
+//! pass, then per light the passes of the [`umbra_scene::Technique`] the scene asked for and an
+//! additive Lambert pass, then a readback. Each frame returns its pixels and a
+//! [`FrameReport`] (device, capabilities, scene, per-light plan, per-pass GPU times) that
+//! serialises to JSON.
+//!
+//! Techniques available in this build: [`plan::AVAILABLE_TECHNIQUES`].
+
+#![warn(missing_docs)]
+
+mod error;
+mod forward;
+mod gpu_scene;
+pub mod plan;
+mod renderer;
+mod report;
+mod timing;
+
+pub use error::{RenderError, RenderResult};
+pub use plan::LightPlan;
+pub use renderer::{Frame, Renderer, RendererDesc, COLOR_FORMAT};
+pub use report::{FrameReport, SceneSummary};
+pub use timing::PassReport;

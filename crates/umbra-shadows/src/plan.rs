@@ -1,0 +1,96 @@
+//! The frame plan: what each light needs this frame, decided from the scene before anything
+//! is recorded. Work that cannot change the image (a light with zero radiance, a scene with
+//! nothing to light) is not recorded, and the report says why.
+//!
+//! This is the seam where shadow techniques plug in: each light carries the technique the
+//! scene asked for, and the renderer records that technique's passes for it.
+
+use crate::{RenderError, RenderResult};
+use serde::Serialize;
+use umbra_scene::{LightKind, Scene, Technique};
+
+/// The decision for one light.
+#[derive(Clone, Debug, Serialize)]
+pub struct LightPlan {
+    /// Index in `Scene::lights`.
+    pub light: usize,
+    /// Name from the scene.
+    pub name: String,
+    /// Directional, point or spot.
+    pub kind: LightKind,
+    /// The technique its shadows use.
+    pub technique: Technique,
+    /// Whether any pass is recorded for it.
+    pub recorded: bool,
+    /// Why not, when `recorded` is false.
+    pub skipped_because: Option<String>,
+}
+
+/// Techniques this build records (the others return [`RenderError::TechniqueUnavailable`]).
+pub const AVAILABLE_TECHNIQUES: &[Technique] = &[Technique::Unshadowed];
+
+/// Decides, per light, what to record.
+pub fn plan_lights(scene: &Scene) -> RenderResult<Vec<LightPlan>> {
+    scene
+        .lights
+        .iter()
+        .enumerate()
+        .map(|(i, l)| {
+            let skip = if !l.contributes() {
+                Some("zero radiance: cannot change the image")
+            } else if scene.objects.is_empty() {
+                Some("no objects to light")
+            } else {
+                None
+            };
+            if skip.is_none() && !AVAILABLE_TECHNIQUES.contains(&l.technique) {
+                return Err(RenderError::TechniqueUnavailable {
+                    light: i,
+                    technique: l.technique,
+                });
+            }
+            Ok(LightPlan {
+                light: i,
+                name: l.name.clone(),
+                kind: l.kind(),
+                technique: l.technique,
+                recorded: skip.is_none(),
+                skipped_because: skip.map(str::to_owned),
+            })
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+    use umbra_scene::Light;
+
+    #[test]
+    fn dark_lights_are_planned_out_with_a_reason() {
+        let mut s = umbra_scene::procedural::build("ball").unwrap();
+        s.lights.push(Light::point(Vec3::ONE, 0.0));
+        let plan = plan_lights(&s).unwrap();
+        assert!(plan[0].recorded);
+        assert!(!plan[1].recorded);
+        assert!(plan[1]
+            .skipped_because
+            .as_deref()
+            .unwrap()
+            .contains("zero radiance"));
+    }
+
+    #[test]
+    fn unavailable_techniques_are_typed_errors() {
+        let mut s = umbra_scene::procedural::build("ball").unwrap();
+        s.lights[0].technique = Technique::Hybrid;
+        assert!(matches!(
+            plan_lights(&s),
+            Err(RenderError::TechniqueUnavailable {
+                light: 0,
+                technique: Technique::Hybrid
+            })
+        ));
+    }
+}

@@ -1,0 +1,72 @@
+//! The frame report: what a frame did, on which device, and what it cost on the GPU.
+
+use crate::plan::LightPlan;
+use crate::timing::PassReport;
+use serde::Serialize;
+use umbra_scene::Scene;
+use umbra_vk::Capabilities;
+
+/// The scene a frame rendered, in numbers.
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneSummary {
+    /// Scene name.
+    pub name: String,
+    /// Placed objects.
+    pub objects: usize,
+    /// Distinct meshes.
+    pub meshes: usize,
+    /// Triangles per full-scene pass.
+    pub triangles: usize,
+    /// Lights in the scene (recorded or not).
+    pub lights: usize,
+}
+
+impl SceneSummary {
+    /// Summarises `scene`.
+    pub fn of(scene: &Scene) -> Self {
+        Self {
+            name: scene.name.clone(),
+            objects: scene.objects.len(),
+            meshes: scene.meshes.len(),
+            triangles: scene.triangle_count(),
+            lights: scene.lights.len(),
+        }
+    }
+}
+
+/// What one frame did. Serialises to JSON with [`FrameReport::to_json`].
+#[derive(Clone, Debug, Serialize)]
+pub struct FrameReport {
+    /// Device name (same as `capabilities.device_name`).
+    pub device: String,
+    /// Driver name and version.
+    pub driver: String,
+    /// The device's capabilities as umbra uses them.
+    pub capabilities: Capabilities,
+    /// The scene.
+    pub scene: SceneSummary,
+    /// Target width in pixels.
+    pub width: u32,
+    /// Target height in pixels.
+    pub height: u32,
+    /// Per light: technique and whether its passes were recorded (and why not).
+    pub lights: Vec<LightPlan>,
+    /// Every recorded pass, in order, with its GPU time.
+    pub passes: Vec<PassReport>,
+    /// Sum of the passes' GPU times (`None` without timestamps).
+    pub total_gpu_ms: Option<f64>,
+    /// CPU wall time of recording, submission and wait, in milliseconds.
+    pub cpu_frame_ms: f64,
+}
+
+impl FrameReport {
+    /// Pretty-printed JSON.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
+    }
+
+    /// The pass named `name`, if recorded.
+    pub fn pass(&self, name: &str) -> Option<&PassReport> {
+        self.passes.iter().find(|p| p.name == name)
+    }
+}

@@ -1,0 +1,201 @@
+//! Buffers: a `Copy` description, an RAII buffer, upload and readback.
+
+use crate::error::{CallContext, VkError, VkResult};
+use crate::{Context, Memory};
+use ash::vk;
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+
+/// What a buffer is: size, usage and memory.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct BufferDesc {
+    /// Size in bytes (non-zero).
+    pub size: u64,
+    /// Usage flags.
+    pub usage: vk::BufferUsageFlags,
+    /// Where the memory lives.
+    pub memory: Memory,
+}
+
+impl BufferDesc {
+    /// A device-local buffer of `size` bytes with `usage` (plus `TRANSFER_DST` for uploads).
+    pub fn gpu_only(size: u64, usage: vk::BufferUsageFlags) -> Self {
+        Self {
+            size,
+            usage: usage | vk::BufferUsageFlags::TRANSFER_DST,
+            memory: Memory::GpuOnly,
+        }
+    }
+
+    /// A host-visible buffer written by the CPU.
+    pub fn cpu_to_gpu(size: u64, usage: vk::BufferUsageFlags) -> Self {
+        Self {
+            size,
+            usage,
+            memory: Memory::CpuToGpu,
+        }
+    }
+
+    /// A host-visible buffer the GPU copies into for the CPU to read.
+    pub fn readback(size: u64) -> Self {
+        Self {
+            size,
+            usage: vk::BufferUsageFlags::TRANSFER_DST,
+            memory: Memory::GpuToCpu,
+        }
+    }
+
+    /// Same description with other usage flags.
+    pub fn usage(mut self, usage: vk::BufferUsageFlags) -> Self {
+        self.usage = usage;
+        self
+    }
+}
+
+/// A Vulkan buffer and its memory; freed on drop.
+pub struct Buffer {
+    /// The raw handle.
+    pub raw: vk::Buffer,
+    /// What it was created from.
+    pub desc: BufferDesc,
+    allocation: Option<Allocation>,
+    ctx: Context,
+}
+
+impl std::fmt::Debug for Buffer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Buffer")
+            .field("raw", &self.raw)
+            .field("desc", &self.desc)
+            .finish()
+    }
+}
+
+impl Buffer {
+    /// Creates a named buffer.
+    pub fn new(ctx: &Context, name: &str, desc: BufferDesc) -> VkResult<Self> {
+        if desc.size == 0 {
+            return Err(VkError::InvalidDesc {
+                what: "buffer",
+                why: format!("{name}: size is zero"),
+            });
+        }
+        let info = vk::BufferCreateInfo::default()
+            .size(desc.size)
+            .usage(desc.usage)
+            .sharing_mode(vk::SharingMode::EXCLUSIVE);
+        let device = &ctx.inner.device;
+        // SAFETY: valid create info; the buffer is destroyed in `Drop`.
+        let raw = unsafe { device.create_buffer(&info, None) }.call("vkCreateBuffer")?;
+        // SAFETY: `raw` was just created from `device`.
+        let requirements = unsafe { device.get_buffer_memory_requirements(raw) };
+        let allocation = ctx.allocator().and_then(|mut a| {
+            Ok(a.allocate(&AllocationCreateDesc {
+                name,
+                requirements,
+                location: desc.memory.location(),
+                linear: true,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            })?)
+        });
+        let allocation = match allocation {
+            Ok(a) => a,
+            Err(e) => {
+                // SAFETY: unused, unbound buffer.
+                unsafe { device.destroy_buffer(raw, None) };
+                return Err(e);
+            }
+        };
+        let buffer = Buffer {
+            raw,
+            desc,
+            allocation: Some(allocation),
+            ctx: ctx.clone(),
+        };
+        // SAFETY: memory and offset come from an allocation made for these requirements.
+        unsafe {
+            let a = buffer.allocation.as_ref().ok_or(VkError::Poisoned)?;
+            device
+                .bind_buffer_memory(raw, a.memory(), a.offset())
+                .call("vkBindBufferMemory")?;
+        }
+        ctx.set_name(raw, name);
+        Ok(buffer)
+    }
+
+    /// Creates a device-local buffer holding `data`, uploaded through a staging buffer.
+    pub fn with_data(
+        ctx: &Context,
+        name: &str,
+        usage: vk::BufferUsageFlags,
+        data: &[u8],
+    ) -> VkResult<Self> {
+        let buffer = Buffer::new(ctx, name, BufferDesc::gpu_only(data.len() as u64, usage))?;
+        let staging = Buffer::new(
+            ctx,
+            &format!("{name} (staging)"),
+            BufferDesc::cpu_to_gpu(data.len() as u64, vk::BufferUsageFlags::TRANSFER_SRC),
+        )?;
+        let mut staging = staging;
+        staging.write(0, data)?;
+        let mut rec = ctx.begin_commands("upload")?;
+        rec.copy_buffer(&staging, &buffer, data.len() as u64);
+        ctx.submit_and_wait(rec)?;
+        Ok(buffer)
+    }
+
+    /// Writes `data` at `offset` into a host-visible buffer.
+    pub fn write(&mut self, offset: u64, data: &[u8]) -> VkResult<()> {
+        let end = offset + data.len() as u64;
+        let size = self.desc.size;
+        let slice = self.mapped_mut()?;
+        let dst = slice
+            .get_mut(offset as usize..end as usize)
+            .ok_or_else(|| VkError::InvalidDesc {
+                what: "buffer write",
+                why: format!("bytes {offset}..{end} past the size {size}"),
+            })?;
+        dst.copy_from_slice(data);
+        Ok(())
+    }
+
+    /// Reads the whole content of a host-visible buffer.
+    pub fn read(&self) -> VkResult<Vec<u8>> {
+        Ok(self.mapped()?[..self.desc.size as usize].to_vec())
+    }
+
+    fn mapped(&self) -> VkResult<&[u8]> {
+        let a = self.allocation.as_ref().ok_or(VkError::Poisoned)?;
+        Ok(a.mapped_slice().ok_or_else(|| self.not_mapped())?)
+    }
+
+    fn mapped_mut(&mut self) -> VkResult<&mut [u8]> {
+        let memory = self.desc.memory;
+        let a = self.allocation.as_mut().ok_or(VkError::Poisoned)?;
+        a.mapped_slice_mut().ok_or(VkError::InvalidDesc {
+            what: "buffer map",
+            why: format!("buffer of {memory:?} memory is not host-visible"),
+        })
+    }
+
+    fn not_mapped(&self) -> VkError {
+        VkError::InvalidDesc {
+            what: "buffer map",
+            why: format!(
+                "buffer of {:?} memory is not host-visible",
+                self.desc.memory
+            ),
+        }
+    }
+}
+
+impl Drop for Buffer {
+    fn drop(&mut self) {
+        // SAFETY: umbra waits for every submission, so the buffer is no longer in use.
+        unsafe { self.ctx.inner.device.destroy_buffer(self.raw, None) };
+        if let (Some(a), Ok(mut alloc)) = (self.allocation.take(), self.ctx.allocator()) {
+            if let Err(e) = alloc.free(a) {
+                log::error!("freeing buffer memory failed: {e}");
+            }
+        }
+    }
+}

@@ -1,0 +1,159 @@
+//! What the chosen device can do, probed once; everything downstream asks this value.
+
+use ash::vk;
+use serde::Serialize;
+
+/// Depth/stencil formats umbra may use, best first.
+pub const DEPTH_STENCIL_PREFERENCE: [vk::Format; 3] = [
+    vk::Format::D32_SFLOAT_S8_UINT,
+    vk::Format::D24_UNORM_S8_UINT,
+    vk::Format::D16_UNORM_S8_UINT,
+];
+
+/// The device's identity and the optional features umbra uses, as enabled on the device.
+///
+/// A feature is `true` only when the device supports it **and** it is enabled on the logical
+/// device (umbra enables every optional feature it finds; a bring-your-own device reports what
+/// its owner enabled).
+#[derive(Clone, Debug, Serialize)]
+pub struct Capabilities {
+    /// Device name as reported by the driver (`llvmpipe (LLVM 15.0.6, 256 bits)`, …).
+    pub device_name: String,
+    /// Driver name (`llvmpipe`, `SwiftShader driver`, …), from `VkPhysicalDeviceDriverProperties`.
+    pub driver_name: String,
+    /// Driver version details (`Mesa 22.3.6 (LLVM 15.0.6)`, …).
+    pub driver_info: String,
+    /// Device type: `discrete`, `integrated`, `virtual`, `cpu` or `other`.
+    pub device_type: String,
+    /// Vulkan version the device supports, as `major.minor.patch`.
+    pub api_version: String,
+    /// `depthBounds`: the depth-bounds test (Chan–Durand's computation mask).
+    pub depth_bounds: bool,
+    /// `depthClamp`: clamp instead of clipping at near/far (Everitt–Kilgard's caps).
+    pub depth_clamp: bool,
+    /// `pipelineStatisticsQuery`: fragment-invocation counts for fill metrics.
+    pub pipeline_statistics: bool,
+    /// Timestamps on the graphics queue (`timestampValidBits > 0` and `timestampComputeAndGraphics`
+    /// or a graphics queue with valid bits).
+    pub timestamps: bool,
+    /// Nanoseconds per timestamp tick.
+    pub timestamp_period_ns: f32,
+    /// Significant bits in a timestamp.
+    pub timestamp_valid_bits: u32,
+    /// `geometryShader`.
+    pub geometry_shader: bool,
+    /// `wideLines`: line widths other than 1.0.
+    pub wide_lines: bool,
+    /// Supported line width range (`[1, 1]` without wide lines).
+    pub line_width_range: [f32; 2],
+    /// `VK_EXT_conservative_rasterization` is available and enabled.
+    pub conservative_rasterization: bool,
+    /// Depth/stencil formats usable as optimal-tiling attachments, best first.
+    pub depth_stencil_formats: Vec<String>,
+    /// The depth/stencil attachment format umbra uses (D32_SFLOAT_S8_UINT when present).
+    #[serde(serialize_with = "ser_format")]
+    pub depth_stencil_format: vk::Format,
+    /// `D32_SFLOAT` usable as a sampled depth attachment (shadow maps).
+    pub depth32_sampled: bool,
+    /// `maxImageDimension2D`.
+    pub max_image_dimension_2d: u32,
+    /// `maxImageDimensionCube`.
+    pub max_image_dimension_cube: u32,
+    /// `maxPushConstantsSize` in bytes.
+    pub max_push_constants_size: u32,
+}
+
+fn ser_format<S: serde::Serializer>(f: &vk::Format, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(&format!("{f:?}"))
+}
+
+/// Everything `Capabilities::from_parts` needs, gathered by the context from the instance.
+pub(crate) struct Probe<'a> {
+    pub properties: &'a vk::PhysicalDeviceProperties,
+    pub driver: &'a vk::PhysicalDeviceDriverProperties<'a>,
+    pub enabled: &'a vk::PhysicalDeviceFeatures,
+    pub queue_family: &'a vk::QueueFamilyProperties,
+    pub conservative_rasterization: bool,
+    pub depth_stencil_formats: Vec<vk::Format>,
+    pub depth32_sampled: bool,
+}
+
+impl Capabilities {
+    pub(crate) fn from_parts(p: Probe<'_>) -> Self {
+        let limits = &p.properties.limits;
+        let c_str = |s: Result<&std::ffi::CStr, _>| {
+            s.map(|c: &std::ffi::CStr| c.to_string_lossy().into_owned())
+                .unwrap_or_default()
+        };
+        let v = p.properties.api_version;
+        let timestamp_valid_bits = p.queue_family.timestamp_valid_bits;
+        let wide_lines = p.enabled.wide_lines == vk::TRUE;
+        Self {
+            device_name: c_str(p.properties.device_name_as_c_str()),
+            driver_name: c_str(p.driver.driver_name_as_c_str()),
+            driver_info: c_str(p.driver.driver_info_as_c_str()),
+            device_type: device_type_name(p.properties.device_type).to_owned(),
+            api_version: format!(
+                "{}.{}.{}",
+                vk::api_version_major(v),
+                vk::api_version_minor(v),
+                vk::api_version_patch(v)
+            ),
+            depth_bounds: p.enabled.depth_bounds == vk::TRUE,
+            depth_clamp: p.enabled.depth_clamp == vk::TRUE,
+            pipeline_statistics: p.enabled.pipeline_statistics_query == vk::TRUE,
+            timestamps: timestamp_valid_bits > 0 && limits.timestamp_period > 0.0,
+            timestamp_period_ns: limits.timestamp_period,
+            timestamp_valid_bits,
+            geometry_shader: p.enabled.geometry_shader == vk::TRUE,
+            wide_lines,
+            line_width_range: if wide_lines {
+                limits.line_width_range
+            } else {
+                [1.0, 1.0]
+            },
+            conservative_rasterization: p.conservative_rasterization,
+            depth_stencil_formats: p
+                .depth_stencil_formats
+                .iter()
+                .map(|f| format!("{f:?}"))
+                .collect(),
+            depth_stencil_format: p
+                .depth_stencil_formats
+                .first()
+                .copied()
+                .unwrap_or(vk::Format::UNDEFINED),
+            depth32_sampled: p.depth32_sampled,
+            max_image_dimension_2d: limits.max_image_dimension2_d,
+            max_image_dimension_cube: limits.max_image_dimension_cube,
+            max_push_constants_size: limits.max_push_constants_size,
+        }
+    }
+}
+
+/// Short lower-case name of a device type.
+pub fn device_type_name(t: vk::PhysicalDeviceType) -> &'static str {
+    match t {
+        vk::PhysicalDeviceType::DISCRETE_GPU => "discrete",
+        vk::PhysicalDeviceType::INTEGRATED_GPU => "integrated",
+        vk::PhysicalDeviceType::VIRTUAL_GPU => "virtual",
+        vk::PhysicalDeviceType::CPU => "cpu",
+        _ => "other",
+    }
+}
+
+/// The optional core features umbra enables when the device has them.
+pub(crate) fn wanted_features(
+    supported: &vk::PhysicalDeviceFeatures,
+) -> vk::PhysicalDeviceFeatures {
+    vk::PhysicalDeviceFeatures {
+        depth_bounds: supported.depth_bounds,
+        depth_clamp: supported.depth_clamp,
+        pipeline_statistics_query: supported.pipeline_statistics_query,
+        geometry_shader: supported.geometry_shader,
+        wide_lines: supported.wide_lines,
+        fill_mode_non_solid: supported.fill_mode_non_solid,
+        depth_bias_clamp: supported.depth_bias_clamp,
+        ..Default::default()
+    }
+}

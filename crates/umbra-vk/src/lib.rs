@@ -1,0 +1,56 @@
+//! # umbra-vk — umbra's core Vulkan layer
+//!
+//! Raw [`ash`] with memory through `gpu-allocator`, knowing nothing of shadows. One small file
+//! per Vulkan object kind; every object is RAII (freed on drop) and debug-named; every `unsafe`
+//! block of umbra lives here, each with a `// SAFETY:` line.
+//!
+//! - [`Context`]: instance, device (headless, Vulkan 1.3, dynamic rendering, synchronization2),
+//!   queue, allocator and [`Capabilities`]. [`Context::new`] honours `UMBRA_DEVICE` and
+//!   `UMBRA_VALIDATION`; [`Context::from_external`] wraps an engine's own device.
+//! - [`Buffer`], [`Image`] with `Copy` descriptions ([`BufferDesc`], [`ImageDesc`]).
+//! - [`GraphicsPipeline`] from a [`GraphicsPipelineDesc`] with the full depth/stencil state.
+//! - [`Recorder`]: a safe command recorder whose borrows keep resources alive until the
+//!   submission completes.
+//! - [`QueryPool`]: timestamps, occlusion, pipeline statistics.
+//!
+//! ## Device requirements
+//! Required: Vulkan 1.3, `dynamicRendering`, `synchronization2`, a graphics queue.
+//! Optional (enabled when present, reported in [`Capabilities`]): `depthBounds`, `depthClamp`,
+//! `pipelineStatisticsQuery`, `geometryShader`, `wideLines`, `depthBiasClamp`,
+//! `fillModeNonSolid`, `VK_EXT_conservative_rasterization`; `VK_EXT_debug_utils` on the instance.
+
+#![warn(missing_docs)]
+
+mod buffer;
+mod capabilities;
+mod commands;
+mod context;
+mod descriptors;
+mod error;
+mod image;
+mod memory;
+mod pipeline;
+mod query;
+mod sampler;
+pub mod selection;
+mod validation;
+
+pub use ash;
+pub use ash::vk;
+pub use buffer::{Buffer, BufferDesc};
+pub use bytemuck;
+pub use capabilities::{device_type_name, Capabilities, DEPTH_STENCIL_PREFERENCE};
+pub use commands::{ColorAttachment, DepthAttachment, Recorder, RenderTargets};
+pub use context::{Context, ContextOptions, ExternalDevice, VALIDATION_ENV};
+pub use descriptors::{Binding, DescriptorSet, DescriptorSetLayout, Resource};
+pub use error::{VkError, VkResult};
+pub use image::{format_aspect, texel_size, Image, ImageDesc, ImageState};
+pub use memory::Memory;
+pub use pipeline::{
+    Blend, ColorTarget, DepthState, GraphicsPipeline, GraphicsPipelineDesc, PipelineLayout,
+    StencilFace, VertexAttribute,
+};
+pub use query::{QueryKind, QueryPool};
+pub use sampler::{Sampler, SamplerDesc};
+pub use selection::DEVICE_ENV;
+pub use validation::ValidationCounter;

@@ -1,0 +1,101 @@
+//! Query pools: timestamps, occlusion and pipeline statistics.
+
+use crate::error::{CallContext, VkError, VkResult};
+use crate::Context;
+use ash::vk;
+
+/// What a query pool counts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum QueryKind {
+    /// GPU timestamps (ticks of `Capabilities::timestamp_period_ns`).
+    Timestamp,
+    /// Samples that passed the depth and stencil tests.
+    Occlusion,
+    /// Fragment-shader invocations (needs `pipelineStatisticsQuery`).
+    FragmentInvocations,
+}
+
+/// A query pool; destroyed on drop.
+pub struct QueryPool {
+    /// The raw pool.
+    pub raw: vk::QueryPool,
+    /// What it counts.
+    pub kind: QueryKind,
+    /// Number of queries.
+    pub count: u32,
+    ctx: Context,
+}
+
+impl QueryPool {
+    /// Creates a pool of `count` queries; `Unsupported` when the device cannot count `kind`.
+    pub fn new(ctx: &Context, name: &str, kind: QueryKind, count: u32) -> VkResult<Self> {
+        let caps = ctx.capabilities();
+        if count == 0 {
+            return Err(VkError::InvalidDesc {
+                what: "query pool",
+                why: format!("{name}: zero queries"),
+            });
+        }
+        let mut info = vk::QueryPoolCreateInfo::default().query_count(count);
+        info = match kind {
+            QueryKind::Timestamp if !caps.timestamps => {
+                return Err(ctx.unsupported("timestamp queries"))
+            }
+            QueryKind::FragmentInvocations if !caps.pipeline_statistics => {
+                return Err(ctx.unsupported("pipeline statistics queries (pipelineStatisticsQuery)"))
+            }
+            QueryKind::Timestamp => info.query_type(vk::QueryType::TIMESTAMP),
+            QueryKind::Occlusion => info.query_type(vk::QueryType::OCCLUSION),
+            QueryKind::FragmentInvocations => info
+                .query_type(vk::QueryType::PIPELINE_STATISTICS)
+                .pipeline_statistics(vk::QueryPipelineStatisticFlags::FRAGMENT_SHADER_INVOCATIONS),
+        };
+        // SAFETY: valid create info; features checked above; destroyed in `Drop`.
+        let raw =
+            unsafe { ctx.inner.device.create_query_pool(&info, None) }.call("vkCreateQueryPool")?;
+        ctx.set_name(raw, name);
+        Ok(Self {
+            raw,
+            kind,
+            count,
+            ctx: ctx.clone(),
+        })
+    }
+
+    /// Every query's 64-bit result, waiting for them to be available.
+    pub fn results(&self) -> VkResult<Vec<u64>> {
+        let mut data = vec![0u64; self.count as usize];
+        // SAFETY: `data` holds one u64 per query (each kind here yields one value).
+        unsafe {
+            self.ctx.inner.device.get_query_pool_results(
+                self.raw,
+                0,
+                &mut data,
+                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+            )
+        }
+        .call("vkGetQueryPoolResults")?;
+        Ok(data)
+    }
+
+    /// Nanoseconds between two timestamps of this pool's results, honouring the valid bits.
+    pub fn elapsed_ns(&self, results: &[u64], begin: usize, end: usize) -> f64 {
+        let caps = self.ctx.capabilities();
+        let mask = if caps.timestamp_valid_bits >= 64 {
+            u64::MAX
+        } else {
+            (1u64 << caps.timestamp_valid_bits) - 1
+        };
+        let (Some(&b), Some(&e)) = (results.get(begin), results.get(end)) else {
+            return 0.0;
+        };
+        (e.wrapping_sub(b) & mask) as f64 * caps.timestamp_period_ns as f64
+    }
+}
+
+impl Drop for QueryPool {
+    fn drop(&mut self) {
+        // SAFETY: umbra waits for every submission, so the pool is no longer in use.
+        unsafe { self.ctx.inner.device.destroy_query_pool(self.raw, None) };
+    }
+}
