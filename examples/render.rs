@@ -24,6 +24,6 @@ fn main() -> anyhow::Result<()> {
     let scene = umbra::scene::load(&args.common.scene)?;
     let (width, height) = args.common.size;
     let mut renderer = Renderer::new(&ctx, RendererDesc { width, height })?;
-    let frame = renderer.render(&scene)?;
+    let frame = common::render_warm(&mut renderer, &scene, &args.common)?;
     common::write_outputs(&args.common, "render", &frame)
 }

@@ -7,22 +7,11 @@ use umbra::shadows::{Renderer, RendererDesc};
 #[test]
 fn every_pass_has_a_positive_gpu_time_and_the_selected_device() {
     common::with_context(|ctx| {
-        let mut r = Renderer::new(
-            ctx,
-            RendererDesc {
-                width: common::SIZE.0,
-                height: common::SIZE.1,
-            },
-        )
-        .unwrap();
+        let mut r = Renderer::new(ctx, RendererDesc { width: common::SIZE.0, height: common::SIZE.1 }).unwrap();
         let scene = umbra::scene::load("cubes").unwrap();
         let frame = r.render(&scene).unwrap();
         let report = &frame.report;
-        assert!(
-            report.capabilities.timestamps,
-            "{} has no timestamps",
-            report.device
-        );
+        assert!(report.capabilities.timestamps, "{} has no timestamps", report.device);
         let names: Vec<&str> = report.passes.iter().map(|p| p.name.as_str()).collect();
         assert_eq!(names, ["ambient", "light 0 (point)", "readback"]);
         for p in &report.passes {
@@ -53,24 +42,12 @@ fn every_pass_has_a_positive_gpu_time_and_the_selected_device() {
                     assert!(driver.contains(d), "driver {driver:?} is not {d}");
                 }
             }
-            _ => println!(
-                "UMBRA_DEVICE unset: rendered on {} ({})",
-                report.device, report.driver
-            ),
+            _ => println!("UMBRA_DEVICE unset: rendered on {} ({})", report.device, report.driver),
         }
 
         let json: serde_json::Value = serde_json::from_str(&report.to_json()).unwrap();
-        for key in [
-            "device",
-            "driver",
-            "capabilities",
-            "scene",
-            "width",
-            "height",
-            "lights",
-            "passes",
-            "total_gpu_ms",
-        ] {
+        for key in ["device", "driver", "capabilities", "scene", "width", "height", "lights", "passes", "total_gpu_ms"]
+        {
             assert!(json.get(key).is_some(), "JSON report lacks {key}");
         }
         assert_eq!(json["passes"][0]["name"], "ambient");

@@ -6,57 +6,27 @@ use umbra::shadows::{Frame, Renderer, RendererDesc};
 
 /// Fraction of pixels that differ from the background colour.
 fn coverage(frame: &Frame, background: [u8; 3]) -> f64 {
-    let covered = frame
-        .rgba
-        .chunks_exact(4)
-        .filter(|p| p[..3] != background)
-        .count();
+    let covered = frame.rgba.chunks_exact(4).filter(|p| p[..3] != background).count();
     covered as f64 / (frame.width * frame.height) as f64
 }
 
 fn render_and_check(renderer: &mut Renderer, spec: &str, stem: &str) {
     let scene = umbra::scene::load(spec).unwrap_or_else(|e| panic!("{spec}: {e}"));
-    let frame = renderer
-        .render(&scene)
-        .unwrap_or_else(|e| panic!("{spec}: {e}"));
+    let frame = renderer.render(&scene).unwrap_or_else(|e| panic!("{spec}: {e}"));
     let bg = (scene.background * 255.0).to_array().map(|v| v as u8);
     let covered = coverage(&frame, bg);
-    println!(
-        "{stem}: {} triangles, {:.0}% of pixels covered",
-        frame.report.scene.triangles,
-        covered * 100.0
-    );
-    frame
-        .save_png(&common::output_dir("scenes").join(format!("{stem}.png")))
-        .unwrap();
-    assert!(
-        covered > 0.05,
-        "{spec}: only {:.1}% of pixels differ from the background",
-        covered * 100.0
-    );
-    assert!(
-        !frame.rgba.chunks_exact(4).any(|p| p == [0xCD; 4]),
-        "{spec}: poisoned readback bytes survived"
-    );
+    println!("{stem}: {} triangles, {:.0}% of pixels covered", frame.report.scene.triangles, covered * 100.0);
+    frame.save_png(&common::output_dir("scenes").join(format!("{stem}.png"))).unwrap();
+    assert!(covered > 0.05, "{spec}: only {:.1}% of pixels differ from the background", covered * 100.0);
+    assert!(!frame.rgba.chunks_exact(4).any(|p| p == [0xCD; 4]), "{spec}: poisoned readback bytes survived");
     let lit = frame.report.lights.iter().filter(|l| l.recorded).count();
-    assert_eq!(
-        frame.report.passes.len(),
-        2 + lit,
-        "{spec}: ambient + one pass per light + readback"
-    );
+    assert_eq!(frame.report.passes.len(), 2 + lit, "{spec}: ambient + one pass per light + readback");
 }
 
 #[test]
 fn every_procedural_scene_renders_validation_clean() {
     common::with_context(|ctx| {
-        let mut r = Renderer::new(
-            ctx,
-            RendererDesc {
-                width: common::SIZE.0,
-                height: common::SIZE.1,
-            },
-        )
-        .unwrap();
+        let mut r = Renderer::new(ctx, RendererDesc { width: common::SIZE.0, height: common::SIZE.1 }).unwrap();
         for name in umbra::scene::procedural::NAMES {
             render_and_check(&mut r, name, name);
         }
@@ -67,27 +37,10 @@ fn every_procedural_scene_renders_validation_clean() {
 fn every_shared_asset_renders_validation_clean() {
     let dir = common::assets();
     common::with_context(|ctx| {
-        let mut r = Renderer::new(
-            ctx,
-            RendererDesc {
-                width: common::SIZE.0,
-                height: common::SIZE.1,
-            },
-        )
-        .unwrap();
-        for file in [
-            "spot.glb",
-            "fandisk.glb",
-            "teapot.glb",
-            "stanford-bunny.glb",
-            "suzanne.glb",
-        ] {
+        let mut r = Renderer::new(ctx, RendererDesc { width: common::SIZE.0, height: common::SIZE.1 }).unwrap();
+        for file in ["spot.glb", "fandisk.glb", "teapot.glb", "stanford-bunny.glb", "suzanne.glb"] {
             let path = dir.join(file);
-            render_and_check(
-                &mut r,
-                path.to_str().unwrap(),
-                file.trim_end_matches(".glb"),
-            );
+            render_and_check(&mut r, path.to_str().unwrap(), file.trim_end_matches(".glb"));
         }
     });
 }
@@ -134,14 +87,7 @@ intensity = 3.0
     )
     .unwrap();
     common::with_context(|ctx| {
-        let mut r = Renderer::new(
-            ctx,
-            RendererDesc {
-                width: common::SIZE.0,
-                height: common::SIZE.1,
-            },
-        )
-        .unwrap();
+        let mut r = Renderer::new(ctx, RendererDesc { width: common::SIZE.0, height: common::SIZE.1 }).unwrap();
         render_and_check(&mut r, file.to_str().unwrap(), "scene-file");
     });
 }

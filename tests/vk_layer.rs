@@ -3,19 +3,15 @@
 mod common;
 
 use umbra::vk::{
-    vk, Buffer, BufferDesc, DepthAttachment, DepthState, GraphicsPipeline, GraphicsPipelineDesc,
-    Image, ImageDesc, ImageState, PipelineLayout, QueryKind, QueryPool, RenderTargets,
+    vk, Buffer, BufferDesc, DepthAttachment, DepthState, GraphicsPipeline, GraphicsPipelineDesc, Image, ImageDesc,
+    ImageState, PipelineLayout, QueryKind, QueryPool, RenderTargets,
 };
 
 const W: u32 = 64;
 const H: u32 = 48;
 
 /// A depth-only pipeline drawing the full-screen triangle at `depth`.
-fn fullscreen<'a>(
-    name: &'a str,
-    spec: &'a [(u32, u32)],
-    format: vk::Format,
-) -> GraphicsPipelineDesc<'a> {
+fn fullscreen<'a>(name: &'a str, spec: &'a [(u32, u32)], format: vk::Format) -> GraphicsPipelineDesc<'a> {
     let mut desc = GraphicsPipelineDesc::new(name, umbra::shaders::fullscreen::TRIANGLE_VERT);
     desc.specialization = spec;
     desc.cull = vk::CullModeFlags::NONE;
@@ -30,41 +26,23 @@ fn occlusion_queries_count_every_covered_sample_and_depth_is_read_back() {
         let depth = Image::new(
             ctx,
             "depth",
-            ImageDesc::new_2d(format, W, H).usage(
-                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
-            ),
+            ImageDesc::new_2d(format, W, H)
+                .usage(vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC),
         )
         .unwrap();
         let layout = PipelineLayout::new(ctx, "empty", &[], 0).unwrap();
         let spec = [(0, 0.25f32.to_bits())];
-        let pipeline =
-            GraphicsPipeline::new(ctx, &layout, &fullscreen("write 0.25", &spec, format)).unwrap();
+        let pipeline = GraphicsPipeline::new(ctx, &layout, &fullscreen("write 0.25", &spec, format)).unwrap();
         let queries = QueryPool::new(ctx, "occlusion", QueryKind::Occlusion, 2).unwrap();
-        let mut readback = Buffer::new(
-            ctx,
-            "depth readback",
-            BufferDesc::readback(4 * (W * H) as u64),
-        )
-        .unwrap();
-        readback
-            .write(0, &vec![0xCD; 4 * (W * H) as usize])
-            .unwrap();
+        let mut readback = Buffer::new(ctx, "depth readback", BufferDesc::readback(4 * (W * H) as u64)).unwrap();
+        readback.write(0, &vec![0xCD; 4 * (W * H) as usize]).unwrap();
 
         let mut rec = ctx.begin_commands("occlusion test").unwrap();
         rec.reset_queries(&queries);
-        rec.transition(&[(
-            &depth,
-            ImageState::Undefined,
-            ImageState::DepthStencilAttachment,
-        )]);
+        rec.transition(&[(&depth, ImageState::Undefined, ImageState::DepthStencilAttachment)]);
         rec.begin_rendering(&RenderTargets {
             color: &[],
-            depth: Some(DepthAttachment {
-                image: &depth,
-                view: None,
-                clear: Some((1.0, 0)),
-                read_only: false,
-            }),
+            depth: Some(DepthAttachment { image: &depth, view: None, clear: Some((1.0, 0)), read_only: false }),
         });
         rec.bind_pipeline(&pipeline);
         rec.begin_query(&queries, 0);
@@ -74,26 +52,15 @@ fn occlusion_queries_count_every_covered_sample_and_depth_is_read_back() {
         rec.draw(3); // 0.25 < 0.25 fails: LESS_OR_EQUAL passes again
         rec.end_query(&queries, 1);
         rec.end_rendering();
-        rec.transition(&[(
-            &depth,
-            ImageState::DepthStencilAttachment,
-            ImageState::TransferSrc,
-        )]);
+        rec.transition(&[(&depth, ImageState::DepthStencilAttachment, ImageState::TransferSrc)]);
         rec.copy_image_to_buffer(&depth, 0, &readback);
         ctx.submit_and_wait(rec).unwrap();
 
         let counts = queries.results().unwrap();
         assert_eq!(counts, vec![(W * H) as u64; 2], "occlusion counts");
         let bytes = readback.read().unwrap();
-        let depths: Vec<f32> = bytes
-            .chunks_exact(4)
-            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-            .collect();
-        assert!(
-            depths.iter().all(|&d| d == 0.25),
-            "depth readback {:?}",
-            &depths[..4]
-        );
+        let depths: Vec<f32> = bytes.chunks_exact(4).map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]])).collect();
+        assert!(depths.iter().all(|&d| d == 0.25), "depth readback {:?}", &depths[..4]);
     });
 }
 
@@ -102,10 +69,7 @@ fn depth_bounds_masks_by_the_stored_depth_where_supported() {
     common::with_context(|ctx| {
         let caps = ctx.capabilities();
         if !caps.depth_bounds {
-            println!(
-                "SKIPPED on {}: no depthBounds feature (covered on SwiftShader)",
-                caps.device_name
-            );
+            println!("SKIPPED on {}: no depthBounds feature (covered on SwiftShader)", caps.device_name);
             return;
         }
         let format = caps.depth_stencil_format;
@@ -117,9 +81,7 @@ fn depth_bounds_masks_by_the_stored_depth_where_supported() {
         .unwrap();
         let layout = PipelineLayout::new(ctx, "empty", &[], 0).unwrap();
         let write_spec = [(0, 0.6f32.to_bits())];
-        let write =
-            GraphicsPipeline::new(ctx, &layout, &fullscreen("write 0.6", &write_spec, format))
-                .unwrap();
+        let write = GraphicsPipeline::new(ctx, &layout, &fullscreen("write 0.6", &write_spec, format)).unwrap();
         // The tested draw is at depth 0.1 and always passes the depth test: only the bounds
         // test on the *stored* 0.6 can reject it.
         let probe_spec = [(0, 0.1f32.to_bits())];
@@ -136,19 +98,10 @@ fn depth_bounds_masks_by_the_stored_depth_where_supported() {
 
         let mut rec = ctx.begin_commands("depth bounds test").unwrap();
         rec.reset_queries(&queries);
-        rec.transition(&[(
-            &depth,
-            ImageState::Undefined,
-            ImageState::DepthStencilAttachment,
-        )]);
+        rec.transition(&[(&depth, ImageState::Undefined, ImageState::DepthStencilAttachment)]);
         rec.begin_rendering(&RenderTargets {
             color: &[],
-            depth: Some(DepthAttachment {
-                image: &depth,
-                view: None,
-                clear: Some((1.0, 0)),
-                read_only: false,
-            }),
+            depth: Some(DepthAttachment { image: &depth, view: None, clear: Some((1.0, 0)), read_only: false }),
         });
         rec.bind_pipeline(&write);
         rec.draw(3);
@@ -164,10 +117,7 @@ fn depth_bounds_masks_by_the_stored_depth_where_supported() {
         rec.end_rendering();
         ctx.submit_and_wait(rec).unwrap();
         let counts = queries.results().unwrap();
-        println!(
-            "depth bounds [0.5,0.7]: {} samples, [0,0.2]: {} samples",
-            counts[0], counts[1]
-        );
+        println!("depth bounds [0.5,0.7]: {} samples, [0,0.2]: {} samples", counts[0], counts[1]);
         assert_eq!(counts, vec![(W * H) as u64, 0]);
     });
 }

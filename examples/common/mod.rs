@@ -15,12 +15,26 @@ pub struct CommonArgs {
     /// Output folder (created if missing).
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
+    /// Frames rendered and discarded before the reported one (drivers compile shaders and
+    /// fill caches on first use, so a cold frame's timings mislead).
+    #[arg(long, default_value_t = 2)]
+    pub warmup: u32,
+}
+
+/// Renders `args.warmup` discarded frames, then the frame that is reported.
+pub fn render_warm(
+    renderer: &mut umbra::shadows::Renderer,
+    scene: &umbra::scene::Scene,
+    args: &CommonArgs,
+) -> anyhow::Result<umbra::shadows::Frame> {
+    for _ in 0..args.warmup {
+        renderer.render(scene)?;
+    }
+    Ok(renderer.render(scene)?)
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("{s:?} is not WIDTHxHEIGHT"))?;
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("{s:?} is not WIDTHxHEIGHT"))?;
     let parse = |v: &str| v.trim().parse::<u32>().map_err(|e| format!("{v:?}: {e}"));
     Ok((parse(w)?, parse(h)?))
 }
@@ -31,11 +45,7 @@ pub fn init_logging() {
 }
 
 /// Writes `<out>/<stem>.png` and `<out>/<stem>.json` and prints a summary of the report.
-pub fn write_outputs(
-    args: &CommonArgs,
-    stem: &str,
-    frame: &umbra::shadows::Frame,
-) -> anyhow::Result<()> {
+pub fn write_outputs(args: &CommonArgs, stem: &str, frame: &umbra::shadows::Frame) -> anyhow::Result<()> {
     std::fs::create_dir_all(&args.out)?;
     let png = args.out.join(format!("{stem}.png"));
     let json = args.out.join(format!("{stem}.json"));
@@ -47,21 +57,11 @@ pub fn write_outputs(
         r.scene.name, r.device, r.driver, r.width, r.height, r.scene.triangles
     );
     for p in &r.passes {
-        let t = p
-            .gpu_ms
-            .map(|t| format!("{t:9.3} ms"))
-            .unwrap_or_else(|| "      n/a".into());
-        println!(
-            "  {t}  {:<24} {:>5} draws {:>9} triangles",
-            p.name, p.draws, p.triangles
-        );
+        let t = p.gpu_ms.map(|t| format!("{t:9.3} ms")).unwrap_or_else(|| "      n/a".into());
+        println!("  {t}  {:<24} {:>5} draws {:>9} triangles", p.name, p.draws, p.triangles);
     }
     for l in r.lights.iter().filter(|l| !l.recorded) {
-        println!(
-            "  skipped light {}: {}",
-            l.light,
-            l.skipped_because.as_deref().unwrap_or("")
-        );
+        println!("  skipped light {}: {}", l.light, l.skipped_because.as_deref().unwrap_or(""));
     }
     if let Some(t) = r.total_gpu_ms {
         println!("  {t:9.3} ms  total GPU");

@@ -9,14 +9,8 @@ use umbra::vk::{Context, ContextOptions};
 /// if the layer reported any warning or error — including leaks reported at device
 /// destruction.
 pub fn with_context<R>(body: impl FnOnce(&Context) -> R) -> R {
-    let _ = env_logger::builder()
-        .is_test(true)
-        .filter_level(log::LevelFilter::Warn)
-        .try_init();
-    let options = ContextOptions {
-        validation: true,
-        ..ContextOptions::from_env()
-    };
+    let _ = env_logger::builder().is_test(true).filter_level(log::LevelFilter::Warn).try_init();
+    let options = ContextOptions { validation: true, ..ContextOptions::from_env() };
     let ctx = Context::with_options(&options).expect("Vulkan context (run ci/setup.sh)");
     let counter = ctx.validation();
     let out = body(&ctx);
@@ -34,21 +28,14 @@ pub fn assets() -> PathBuf {
     let dir = std::env::var_os("UMBRA_ASSETS")
         .map(PathBuf::from)
         .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/assets"));
-    assert!(
-        dir.is_dir(),
-        "assets folder {} missing (set UMBRA_ASSETS)",
-        dir.display()
-    );
+    assert!(dir.is_dir(), "assets folder {} missing (set UMBRA_ASSETS)", dir.display());
     dir
 }
 
 /// Where tests write their images for people to look at.
 pub fn output_dir(test: &str) -> PathBuf {
     let device = std::env::var("UMBRA_DEVICE").unwrap_or_else(|_| "default".into());
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
-        .join("umbra-tests")
-        .join(device)
-        .join(test);
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("umbra-tests").join(device).join(test);
     std::fs::create_dir_all(&dir).expect("create test output folder");
     dir
 }

@@ -38,25 +38,15 @@ impl Camera {
     /// A camera at `position` looking at `target` with umbra's defaults (50°, near 0.05,
     /// far 200).
     pub fn look_at(position: Vec3, target: Vec3) -> Self {
-        Self {
-            position,
-            target,
-            up: Vec3::Y,
-            fov_y_deg: fov(),
-            near: near(),
-            far: Some(200.0),
-        }
+        Self { position, target, up: Vec3::Y, fov_y_deg: fov(), near: near(), far: Some(200.0) }
     }
 
     /// World-to-view matrix (right-handed, looking down -Z).
     pub fn view(&self) -> Mat4 {
         let forward = (self.target - self.position).normalize_or_zero();
         // Avoid a degenerate basis when looking along `up`.
-        let up = if forward.cross(self.up).length_squared() < 1e-8 {
-            forward.any_orthonormal_vector()
-        } else {
-            self.up
-        };
+        let up =
+            if forward.cross(self.up).length_squared() < 1e-8 { forward.any_orthonormal_vector() } else { self.up };
         Mat4::look_at_rh(self.position, self.target, up)
     }
 
@@ -88,11 +78,7 @@ mod tests {
         c.far = None;
         let clip = c.view_proj(1.5) * Vec4::new(0.1, 0.2, -1.0, 0.0);
         assert!(clip.w > 0.0);
-        assert!(
-            (clip.z / clip.w - 1.0).abs() < 1e-6,
-            "depth {}",
-            clip.z / clip.w
-        );
+        assert!((clip.z / clip.w - 1.0).abs() < 1e-6, "depth {}", clip.z / clip.w);
         let near = c.view_proj(1.5) * Vec4::new(0.0, 0.0, -c.near, 1.0);
         assert!((near.z / near.w).abs() < 1e-6);
     }

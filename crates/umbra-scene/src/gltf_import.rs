@@ -8,33 +8,21 @@ use std::path::Path;
 
 /// Imports a `.glb` or `.gltf` file (external buffers resolved next to it).
 pub fn import_gltf(path: &Path) -> SceneResult<Scene> {
-    let (doc, buffers, _images) = gltf::import(path).map_err(|source| SceneError::Gltf {
-        path: path.to_owned(),
-        source,
-    })?;
-    let name = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
+    let (doc, buffers, _images) =
+        gltf::import(path).map_err(|source| SceneError::Gltf { path: path.to_owned(), source })?;
+    let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     build(&doc, &buffers, &name, path)
 }
 
 /// Imports a glTF document from memory (`.glb` bytes or `.gltf` JSON with embedded buffers).
 pub fn import_gltf_slice(bytes: &[u8], name: &str) -> SceneResult<Scene> {
     let memory = Path::new("<memory>");
-    let (doc, buffers, _images) = gltf::import_slice(bytes).map_err(|source| SceneError::Gltf {
-        path: memory.to_owned(),
-        source,
-    })?;
+    let (doc, buffers, _images) =
+        gltf::import_slice(bytes).map_err(|source| SceneError::Gltf { path: memory.to_owned(), source })?;
     build(&doc, &buffers, name, memory)
 }
 
-fn build(
-    doc: &gltf::Document,
-    buffers: &[gltf::buffer::Data],
-    name: &str,
-    path: &Path,
-) -> SceneResult<Scene> {
+fn build(doc: &gltf::Document, buffers: &[gltf::buffer::Data], name: &str, path: &Path) -> SceneResult<Scene> {
     let mut scene = Scene::new(name);
     let mut camera = None;
     let mut cache: HashMap<(usize, usize), usize> = HashMap::new();
@@ -42,16 +30,12 @@ fn build(
         Some(s) => s.nodes().collect(),
         None => doc.nodes().collect(),
     };
-    let mut stack: Vec<(gltf::Node, Mat4)> =
-        roots.into_iter().map(|n| (n, Mat4::IDENTITY)).collect();
+    let mut stack: Vec<(gltf::Node, Mat4)> = roots.into_iter().map(|n| (n, Mat4::IDENTITY)).collect();
     let mut visited = 0usize;
     while let Some((node, parent)) = stack.pop() {
         visited += 1;
         if visited > doc.nodes().len() * 4 + 16 {
-            return Err(SceneError::SceneFile {
-                path: path.to_owned(),
-                message: "node hierarchy has a cycle".into(),
-            });
+            return Err(SceneError::SceneFile { path: path.to_owned(), message: "node hierarchy has a cycle".into() });
         }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
         if let Some(mesh) = node.mesh() {
@@ -70,16 +54,13 @@ fn build(
                 let id = match cache.get(&key) {
                     Some(&id) => id,
                     None => {
-                        let m =
-                            read_primitive(&prim, buffers, mesh.name().unwrap_or("mesh"), path)?;
+                        let m = read_primitive(&prim, buffers, mesh.name().unwrap_or("mesh"), path)?;
                         let id = scene.add_mesh(m);
                         cache.insert(key, id);
                         id
                     }
                 };
-                let albedo =
-                    Vec4::from(prim.material().pbr_metallic_roughness().base_color_factor())
-                        .truncate();
+                let albedo = Vec4::from(prim.material().pbr_metallic_roughness().base_color_factor()).truncate();
                 let o = scene.add_object(id, world, albedo);
                 o.name = node.name().or(mesh.name()).unwrap_or("node").to_owned();
             }
@@ -119,12 +100,7 @@ fn read_primitive(
         None => (0..positions.len() as u32).collect(),
     };
     match reader.read_normals() {
-        Some(n) => Mesh::new(
-            name,
-            positions,
-            n.map(|n| Vec3::from(n).normalize_or_zero()).collect(),
-            indices,
-        ),
+        Some(n) => Mesh::new(name, positions, n.map(|n| Vec3::from(n).normalize_or_zero()).collect(), indices),
         // glTF 2.0 §3.7.2.1: "When normals are not specified, client implementations MUST
         // calculate flat normals."
         None => Mesh::with_flat_normals(name, &positions, &indices),
@@ -133,10 +109,7 @@ fn read_primitive(
 
 fn read_camera(cam: &gltf::Camera, world: Mat4) -> Option<Camera> {
     let gltf::camera::Projection::Perspective(p) = cam.projection() else {
-        log::warn!(
-            "orthographic glTF camera {:?} ignored: umbra cameras are perspective",
-            cam.name()
-        );
+        log::warn!("orthographic glTF camera {:?} ignored: umbra cameras are perspective", cam.name());
         return None;
     };
     let position = world.transform_point3(Vec3::ZERO);
@@ -158,10 +131,7 @@ fn read_light(light: &gltf::khr_lights_punctual::Light, world: Mat4) -> Light {
     let mut l = match light.kind() {
         Kind::Directional => Light::directional(-shine, light.intensity()),
         Kind::Point => Light::point(position, light.intensity()),
-        Kind::Spot {
-            inner_cone_angle,
-            outer_cone_angle,
-        } => {
+        Kind::Spot { inner_cone_angle, outer_cone_angle } => {
             let mut l = Light::point(position, light.intensity());
             l.spot = Some(Spot {
                 direction: shine,

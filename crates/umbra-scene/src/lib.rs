@@ -39,10 +39,7 @@ pub fn load(spec: &str) -> SceneResult<Scene> {
         return procedural::build(spec);
     }
     let path = Path::new(spec);
-    let ext = path
-        .extension()
-        .map(|e| e.to_string_lossy().to_lowercase())
-        .unwrap_or_default();
+    let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
     match ext.as_str() {
         "toml" => load_scene_file(path),
         "glb" | "gltf" => {

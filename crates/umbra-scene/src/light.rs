@@ -88,32 +88,15 @@ impl Light {
     }
 
     /// A spot light at `position` shining along `direction`.
-    pub fn spot(
-        position: Vec3,
-        direction: Vec3,
-        inner_deg: f32,
-        outer_deg: f32,
-        intensity: f32,
-    ) -> Self {
+    pub fn spot(position: Vec3, direction: Vec3, inner_deg: f32, outer_deg: f32, intensity: f32) -> Self {
         Self {
-            spot: Some(Spot {
-                direction,
-                inner_deg,
-                outer_deg: outer_deg.max(inner_deg),
-            }),
+            spot: Some(Spot { direction, inner_deg, outer_deg: outer_deg.max(inner_deg) }),
             ..Self::point(position, intensity)
         }
     }
 
     fn at(position: Vec4, intensity: f32) -> Self {
-        Self {
-            name: String::new(),
-            position,
-            spot: None,
-            color: Vec3::ONE,
-            intensity,
-            technique: Technique::default(),
-        }
+        Self { name: String::new(), position, spot: None, color: Vec3::ONE, intensity, technique: Technique::default() }
     }
 
     /// The kind, from w and the cone.

@@ -14,10 +14,7 @@ pub struct Aabb {
 
 impl Aabb {
     /// The empty box (min = +inf, max = -inf); growing it by a point gives that point.
-    pub const EMPTY: Self = Self {
-        min: Vec3::splat(f32::INFINITY),
-        max: Vec3::splat(f32::NEG_INFINITY),
-    };
+    pub const EMPTY: Self = Self { min: Vec3::splat(f32::INFINITY), max: Vec3::splat(f32::NEG_INFINITY) };
 
     /// Grows the box to contain `p`.
     pub fn grow(&mut self, p: Vec3) {
@@ -27,10 +24,7 @@ impl Aabb {
 
     /// The union of two boxes.
     pub fn union(self, other: Aabb) -> Aabb {
-        Aabb {
-            min: self.min.min(other.min),
-            max: self.max.max(other.max),
-        }
+        Aabb { min: self.min.min(other.min), max: self.max.max(other.max) }
     }
 
     /// Whether nothing was added.
@@ -85,29 +79,17 @@ impl Mesh {
         normals: Vec<Vec3>,
         indices: Vec<u32>,
     ) -> SceneResult<Self> {
-        let mesh = Self {
-            name: name.into(),
-            positions,
-            normals,
-            indices,
-        };
+        let mesh = Self { name: name.into(), positions, normals, indices };
         mesh.validate()?;
         Ok(mesh)
     }
 
     /// A mesh without normals: every triangle gets its own three vertices carrying the face
     /// normal (flat shading, as glTF requires when `NORMAL` is absent).
-    pub fn with_flat_normals(
-        name: impl Into<String>,
-        positions: &[Vec3],
-        indices: &[u32],
-    ) -> SceneResult<Self> {
+    pub fn with_flat_normals(name: impl Into<String>, positions: &[Vec3], indices: &[u32]) -> SceneResult<Self> {
         let name = name.into();
         check_indices(&name, positions.len(), indices)?;
-        let mut out = Self {
-            name,
-            ..Default::default()
-        };
+        let mut out = Self { name, ..Default::default() };
         for tri in indices.chunks_exact(3) {
             let [a, b, c] = [0, 1, 2].map(|k| positions[tri[k] as usize]);
             let n = (b - a).cross(c - a).normalize_or_zero();
@@ -121,11 +103,7 @@ impl Mesh {
     }
 
     /// A mesh with smooth normals: area-weighted averages of the faces around each vertex.
-    pub fn with_smooth_normals(
-        name: impl Into<String>,
-        positions: Vec<Vec3>,
-        indices: Vec<u32>,
-    ) -> SceneResult<Self> {
+    pub fn with_smooth_normals(name: impl Into<String>, positions: Vec<Vec3>, indices: Vec<u32>) -> SceneResult<Self> {
         let name = name.into();
         check_indices(&name, positions.len(), &indices)?;
         let mut normals = vec![Vec3::ZERO; positions.len()];
@@ -136,10 +114,7 @@ impl Mesh {
                 normals[i as usize] += n;
             }
         }
-        let normals = normals
-            .into_iter()
-            .map(|n| n.try_normalize().unwrap_or(Vec3::Y))
-            .collect();
+        let normals = normals.into_iter().map(|n| n.try_normalize().unwrap_or(Vec3::Y)).collect();
         Self::new(name, positions, normals, indices)
     }
 
@@ -189,18 +164,9 @@ impl Mesh {
 
     /// Checks the invariants listed on [`Mesh::new`].
     pub fn validate(&self) -> SceneResult<()> {
-        let bad = |why: String| {
-            Err(SceneError::InvalidMesh {
-                mesh: self.name.clone(),
-                why,
-            })
-        };
+        let bad = |why: String| Err(SceneError::InvalidMesh { mesh: self.name.clone(), why });
         if self.normals.len() != self.positions.len() {
-            return bad(format!(
-                "{} normals for {} positions",
-                self.normals.len(),
-                self.positions.len()
-            ));
+            return bad(format!("{} normals for {} positions", self.normals.len(), self.positions.len()));
         }
         if let Some(i) = self.positions.iter().position(|p| !p.is_finite()) {
             return bad(format!("position {i} is not finite"));
@@ -210,12 +176,7 @@ impl Mesh {
 }
 
 fn check_indices(name: &str, vertices: usize, indices: &[u32]) -> SceneResult<()> {
-    let bad = |why: String| {
-        Err(SceneError::InvalidMesh {
-            mesh: name.to_owned(),
-            why,
-        })
-    };
+    let bad = |why: String| Err(SceneError::InvalidMesh { mesh: name.to_owned(), why });
     if indices.len() % 3 != 0 {
         return bad(format!("{} indices is not a multiple of 3", indices.len()));
     }
@@ -251,9 +212,6 @@ mod tests {
             .transformed(Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0)));
         let [a, b, c] = [0, 1, 2].map(|k| m.positions[m.indices[k] as usize]);
         let face = (b - a).cross(c - a).normalize();
-        assert!(
-            face.dot(m.normals[0]) > 0.99,
-            "winding and normal agree after a mirror"
-        );
+        assert!(face.dot(m.normals[0]) > 0.99, "winding and normal agree after a mirror");
     }
 }

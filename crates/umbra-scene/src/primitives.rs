@@ -7,23 +7,13 @@ use std::f32::consts::{PI, TAU};
 
 /// Builds a mesh from generated parts; generators only produce valid indices.
 fn assemble(name: &str, positions: Vec<Vec3>, normals: Vec<Vec3>, indices: Vec<u32>) -> Mesh {
-    Mesh {
-        name: name.to_owned(),
-        positions,
-        normals,
-        indices,
-    }
+    Mesh { name: name.to_owned(), positions, normals, indices }
 }
 
 /// A square in the XZ plane at y = 0, `size` wide, facing +Y (open: one-sided).
 pub fn plane(size: f32) -> Mesh {
     let h = size * 0.5;
-    let positions = vec![
-        Vec3::new(-h, 0.0, -h),
-        Vec3::new(-h, 0.0, h),
-        Vec3::new(h, 0.0, h),
-        Vec3::new(h, 0.0, -h),
-    ];
+    let positions = vec![Vec3::new(-h, 0.0, -h), Vec3::new(-h, 0.0, h), Vec3::new(h, 0.0, h), Vec3::new(h, 0.0, -h)];
     assemble("plane", positions, vec![Vec3::Y; 4], vec![0, 1, 2, 0, 2, 3])
 }
 
@@ -41,11 +31,9 @@ pub fn cuboid(half: Vec3) -> Mesh {
             let (hu, hv) = (u * half.dot(u.abs()), v * half.dot(v.abs()));
             let c = n * half[axis];
             let base = m.positions.len() as u32;
-            m.positions
-                .extend([c - hu - hv, c + hu - hv, c + hu + hv, c - hu + hv]);
+            m.positions.extend([c - hu - hv, c + hu - hv, c + hu + hv, c - hu + hv]);
             m.normals.extend([n; 4]);
-            m.indices
-                .extend([base, base + 1, base + 2, base, base + 2, base + 3]);
+            m.indices.extend([base, base + 1, base + 2, base, base + 2, base + 3]);
         }
     }
     m
@@ -57,12 +45,7 @@ pub fn sphere(radius: f32, segments: u32, rings: u32) -> Mesh {
 }
 
 /// A UV sphere whose radius is scaled by `scale(theta, phi)`; smooth normals.
-pub fn displaced_sphere(
-    radius: f32,
-    segments: u32,
-    rings: u32,
-    scale: impl Fn(f32, f32) -> f32,
-) -> Mesh {
+pub fn displaced_sphere(radius: f32, segments: u32, rings: u32, scale: impl Fn(f32, f32) -> f32) -> Mesh {
     let (segments, rings) = (segments.max(3), rings.max(2));
     let mut positions = Vec::new();
     for i in 0..=rings {
@@ -79,12 +62,7 @@ pub fn displaced_sphere(
     let mut indices = Vec::new();
     for i in 0..rings {
         for j in 0..segments {
-            let (a, b, c, d) = (
-                i * stride + j,
-                (i + 1) * stride + j,
-                (i + 1) * stride + j + 1,
-                i * stride + j + 1,
-            );
+            let (a, b, c, d) = (i * stride + j, (i + 1) * stride + j, (i + 1) * stride + j + 1, i * stride + j + 1);
             if i != 0 {
                 indices.extend([a, d, b]);
             }
@@ -101,12 +79,7 @@ pub fn displaced_sphere(
 /// A closed cylinder of `radius` from y = 0 to y = `height`, with flat caps.
 pub fn cylinder(radius: f32, height: f32, segments: u32) -> Mesh {
     lathe(
-        &[
-            Vec2::new(0.0, 0.0),
-            Vec2::new(radius, 0.0),
-            Vec2::new(radius, height),
-            Vec2::new(0.0, height),
-        ],
+        &[Vec2::new(0.0, 0.0), Vec2::new(radius, 0.0), Vec2::new(radius, height), Vec2::new(0.0, height)],
         segments,
         true,
     )
@@ -127,10 +100,7 @@ pub fn cylinder_between(a: Vec3, b: Vec3, radius: f32, segments: u32) -> Mesh {
 pub fn lathe(profile: &[Vec2], segments: u32, creased: bool) -> Mesh {
     let segments = segments.max(3);
     let bands: Vec<[Vec2; 2]> = profile.windows(2).map(|w| [w[0], w[1]]).collect();
-    let mut m = Mesh {
-        name: "lathe".into(),
-        ..Default::default()
-    };
+    let mut m = Mesh { name: "lathe".into(), ..Default::default() };
     let ring = |p: Vec2, j: u32| {
         let t = TAU * (j % segments) as f32 / segments as f32;
         Vec3::new(p.x * t.cos(), p.y, p.x * t.sin())
@@ -139,9 +109,7 @@ pub fn lathe(profile: &[Vec2], segments: u32, creased: bool) -> Mesh {
         for [lo, hi] in bands {
             let mut band = Mesh::default();
             band_triangles(&mut band, lo, hi, segments, ring);
-            m.append(
-                &Mesh::with_flat_normals("", &band.positions, &band.indices).unwrap_or_default(),
-            );
+            m.append(&Mesh::with_flat_normals("", &band.positions, &band.indices).unwrap_or_default());
         }
         return m;
     }
@@ -155,12 +123,7 @@ pub fn lathe(profile: &[Vec2], segments: u32, creased: bool) -> Mesh {
     let mut indices = Vec::new();
     for k in 0..profile.len().saturating_sub(1) as u32 {
         for j in 0..segments {
-            let (a, b, c, d) = (
-                k * stride + j,
-                k * stride + j + 1,
-                (k + 1) * stride + j + 1,
-                (k + 1) * stride + j,
-            );
+            let (a, b, c, d) = (k * stride + j, k * stride + j + 1, (k + 1) * stride + j + 1, (k + 1) * stride + j);
             if profile[k as usize].x > 0.0 {
                 indices.extend([a, d, b]);
             }
@@ -173,13 +136,7 @@ pub fn lathe(profile: &[Vec2], segments: u32, creased: bool) -> Mesh {
 }
 
 /// Triangles of one profile band `lo → hi` (positions unshared), skipping degenerate ones.
-fn band_triangles(
-    out: &mut Mesh,
-    lo: Vec2,
-    hi: Vec2,
-    segments: u32,
-    ring: impl Fn(Vec2, u32) -> Vec3,
-) {
+fn band_triangles(out: &mut Mesh, lo: Vec2, hi: Vec2, segments: u32, ring: impl Fn(Vec2, u32) -> Vec3) {
     for j in 0..segments {
         let (a, b, c, d) = (ring(lo, j), ring(lo, j + 1), ring(hi, j + 1), ring(hi, j));
         let base = out.positions.len() as u32;
@@ -213,40 +170,20 @@ mod tests {
         let b = cuboid(Vec3::new(1.0, 2.0, 3.0));
         assert!((volume(&b) - 48.0).abs() < 1e-3, "box {}", volume(&b));
         let s = sphere(1.0, 64, 32);
-        assert!(
-            (volume(&s) - 4.0 / 3.0 * PI).abs() < 0.05,
-            "sphere {}",
-            volume(&s)
-        );
+        assert!((volume(&s) - 4.0 / 3.0 * PI).abs() < 0.05, "sphere {}", volume(&s));
         let c = cylinder(1.0, 2.0, 64);
-        assert!(
-            (volume(&c) - 2.0 * PI).abs() < 0.05,
-            "cylinder {}",
-            volume(&c)
-        );
+        assert!((volume(&c) - 2.0 * PI).abs() < 0.05, "cylinder {}", volume(&c));
         let c = cylinder_between(Vec3::ONE, Vec3::new(1.0, 1.0, 3.0), 1.0, 64);
-        assert!(
-            (volume(&c) - 2.0 * PI).abs() < 0.05,
-            "oriented cylinder {}",
-            volume(&c)
-        );
+        assert!((volume(&c) - 2.0 * PI).abs() < 0.05, "oriented cylinder {}", volume(&c));
     }
 
     #[test]
     fn normals_point_outward() {
-        for m in [
-            cuboid(Vec3::ONE),
-            sphere(1.0, 16, 8),
-            cylinder(1.0, 1.0, 12),
-        ] {
+        for m in [cuboid(Vec3::ONE), sphere(1.0, 16, 8), cylinder(1.0, 1.0, 12)] {
             let centre = m.bounds().center();
             for tri in m.indices.chunks_exact(3) {
                 let i = tri[0] as usize;
-                assert!(
-                    m.normals[i].dot(m.positions[i] - centre) > -1e-4,
-                    "{}: inward normal",
-                    m.name
-                );
+                assert!(m.normals[i].dot(m.positions[i] - centre) > -1e-4, "{}: inward normal", m.name);
             }
         }
     }

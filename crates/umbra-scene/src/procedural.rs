@@ -51,13 +51,7 @@ fn add_floor(scene: &mut Scene, half: f32) {
     let mut m = cuboid(Vec3::new(half, 0.05, half));
     m.name = "floor".into();
     let id = scene.add_mesh(m);
-    scene
-        .add_object(
-            id,
-            Mat4::from_translation(Vec3::new(0.0, -0.05, 0.0)),
-            FLOOR,
-        )
-        .name = "floor".into();
+    scene.add_object(id, Mat4::from_translation(Vec3::new(0.0, -0.05, 0.0)), FLOOR).name = "floor".into();
 }
 
 /// A point light whose radiance at `reference` (at normal incidence) is about 1.
@@ -76,13 +70,7 @@ fn add(scene: &mut Scene, mut mesh: Mesh, name: &str, transform: Mat4, albedo: V
 fn cylinder_scene() -> Scene {
     let mut s = Scene::new("cylinder");
     add_floor(&mut s, 5.0);
-    add(
-        &mut s,
-        cylinder(0.6, 2.0, 64),
-        "cylinder",
-        Mat4::IDENTITY,
-        Vec3::new(0.8, 0.35, 0.25),
-    );
+    add(&mut s, cylinder(0.6, 2.0, 64), "cylinder", Mat4::IDENTITY, Vec3::new(0.8, 0.35, 0.25));
     point_light(&mut s, Vec3::new(2.5, 5.0, 1.5), Vec3::ZERO);
     s.camera = Camera::look_at(Vec3::new(-3.5, 3.2, -4.5), Vec3::new(0.0, 0.6, 0.0));
     s
@@ -126,36 +114,15 @@ fn cubes_scene() -> Scene {
     for i in 0..9 {
         for j in 0..12 {
             for k in 0..9 {
-                let centre = Vec3::new(
-                    -6.0 + 1.5 * i as f32,
-                    1.0 + 0.55 * j as f32,
-                    -6.0 + 1.5 * k as f32,
-                ) + Vec3::new(
-                    rng.range(-0.3, 0.3),
-                    rng.range(-0.1, 0.1),
-                    rng.range(-0.3, 0.3),
-                );
+                let centre = Vec3::new(-6.0 + 1.5 * i as f32, 1.0 + 0.55 * j as f32, -6.0 + 1.5 * k as f32)
+                    + Vec3::new(rng.range(-0.3, 0.3), rng.range(-0.1, 0.1), rng.range(-0.3, 0.3));
                 let size = rng.range(0.12, 0.3);
-                let rotation = Quat::from_euler(
-                    glam::EulerRot::XYZ,
-                    rng.range(0.0, TAU),
-                    rng.range(0.0, TAU),
-                    0.0,
-                );
-                cubes.append(
-                    &cuboid(Vec3::splat(size))
-                        .transformed(Mat4::from_rotation_translation(rotation, centre)),
-                );
+                let rotation = Quat::from_euler(glam::EulerRot::XYZ, rng.range(0.0, TAU), rng.range(0.0, TAU), 0.0);
+                cubes.append(&cuboid(Vec3::splat(size)).transformed(Mat4::from_rotation_translation(rotation, centre)));
             }
         }
     }
-    add(
-        &mut s,
-        cubes,
-        "cubes",
-        Mat4::IDENTITY,
-        Vec3::new(0.85, 0.55, 0.3),
-    );
+    add(&mut s, cubes, "cubes", Mat4::IDENTITY, Vec3::new(0.85, 0.55, 0.3));
     point_light(&mut s, Vec3::new(3.0, 14.0, -3.0), Vec3::ZERO);
     s.camera = Camera::look_at(Vec3::new(4.0, 5.0, 15.0), Vec3::new(0.0, 3.5, 0.0));
     s
@@ -164,16 +131,8 @@ fn cubes_scene() -> Scene {
 fn cage_scene() -> Scene {
     let mut s = Scene::new("cage");
     add_floor(&mut s, 6.0);
-    let blob = displaced_sphere(1.0, 64, 72, |theta, phi| {
-        1.0 + 0.18 * (3.0 * theta).sin() * (4.0 * phi).sin()
-    });
-    add(
-        &mut s,
-        blob,
-        "blob",
-        Mat4::from_translation(Vec3::new(0.0, 1.6, 0.0)),
-        Vec3::new(0.55, 0.75, 0.35),
-    );
+    let blob = displaced_sphere(1.0, 64, 72, |theta, phi| 1.0 + 0.18 * (3.0 * theta).sin() * (4.0 * phi).sin());
+    add(&mut s, blob, "blob", Mat4::from_translation(Vec3::new(0.0, 1.6, 0.0)), Vec3::new(0.55, 0.75, 0.35));
     let (radius, bars, bar) = (1.8, 24, 0.045);
     let mut cage = Mesh::default();
     let at = |i: u32, y: f32| {
@@ -186,13 +145,7 @@ fn cage_scene() -> Scene {
             cage.append(&cylinder_between(at(i, y), at(i + 1, y), bar, 8));
         }
     }
-    add(
-        &mut s,
-        cage,
-        "cage",
-        Mat4::IDENTITY,
-        Vec3::new(0.5, 0.5, 0.55),
-    );
+    add(&mut s, cage, "cage", Mat4::IDENTITY, Vec3::new(0.5, 0.5, 0.55));
     point_light(&mut s, Vec3::new(-1.0, 6.5, -2.0), Vec3::ZERO);
     s.camera = Camera::look_at(Vec3::new(2.5, 3.0, 5.5), Vec3::new(0.0, 1.4, 0.0));
     s
@@ -204,13 +157,7 @@ fn tree_scene() -> Scene {
     let mut rng = Rng(0xD1B5_4A32_D192_ED03);
     let mut tree = Mesh::default();
     grow(&mut tree, &mut rng, Vec3::ZERO, Vec3::Y, 1.6, 0.12, 7);
-    add(
-        &mut s,
-        tree,
-        "tree",
-        Mat4::IDENTITY,
-        Vec3::new(0.45, 0.33, 0.2),
-    );
+    add(&mut s, tree, "tree", Mat4::IDENTITY, Vec3::new(0.45, 0.33, 0.2));
     point_light(&mut s, Vec3::new(2.0, 9.0, -3.0), Vec3::ZERO);
     s.camera = Camera::look_at(Vec3::new(-3.0, 3.0, 7.5), Vec3::new(0.0, 2.3, 0.0));
     s
@@ -271,19 +218,11 @@ fn pins_scene() -> Scene {
             let x = (i as f32 - row as f32 * 0.5) * 0.6;
             let z = -(row as f32) * 0.52;
             n += 1;
-            s.add_object(
-                id,
-                Mat4::from_translation(Vec3::new(x, 0.0, z)),
-                Vec3::new(0.92, 0.9, 0.86),
-            )
-            .name = format!("pin {n}");
+            s.add_object(id, Mat4::from_translation(Vec3::new(x, 0.0, z)), Vec3::new(0.92, 0.9, 0.86)).name =
+                format!("pin {n}");
         }
     }
-    point_light(
-        &mut s,
-        Vec3::new(-1.5, 4.5, -3.5),
-        Vec3::new(0.0, 0.0, -0.8),
-    );
+    point_light(&mut s, Vec3::new(-1.5, 4.5, -3.5), Vec3::new(0.0, 0.0, -0.8));
     s.camera = Camera::look_at(Vec3::new(0.8, 1.6, 3.0), Vec3::new(0.0, 0.6, -0.8));
     s
 }

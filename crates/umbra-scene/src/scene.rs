@@ -56,10 +56,7 @@ impl Default for Scene {
 impl Scene {
     /// An empty scene with defaults (camera, ambient, background).
     pub fn new(name: impl Into<String>) -> Self {
-        Self {
-            name: name.into(),
-            ..Default::default()
-        }
+        Self { name: name.into(), ..Default::default() }
     }
 
     /// Adds a mesh to the library and returns its index.
@@ -70,41 +67,22 @@ impl Scene {
 
     /// Places mesh `mesh` with `transform` and `albedo`, casting and receiving shadows.
     pub fn add_object(&mut self, mesh: usize, transform: Mat4, albedo: Vec3) -> &mut Object {
-        let name = self
-            .meshes
-            .get(mesh)
-            .map(|m| m.name.clone())
-            .unwrap_or_default();
-        self.objects.push(Object {
-            name,
-            mesh,
-            transform,
-            albedo,
-            casts_shadows: true,
-            receives_shadows: true,
-        });
+        let name = self.meshes.get(mesh).map(|m| m.name.clone()).unwrap_or_default();
+        self.objects.push(Object { name, mesh, transform, albedo, casts_shadows: true, receives_shadows: true });
         let last = self.objects.len() - 1;
         &mut self.objects[last]
     }
 
     /// Triangles drawn per pass (instances counted).
     pub fn triangle_count(&self) -> usize {
-        self.objects
-            .iter()
-            .filter_map(|o| self.meshes.get(o.mesh))
-            .map(Mesh::triangle_count)
-            .sum()
+        self.objects.iter().filter_map(|o| self.meshes.get(o.mesh)).map(Mesh::triangle_count).sum()
     }
 
     /// World-space bounds of every object.
     pub fn bounds(&self) -> Aabb {
         self.objects
             .iter()
-            .filter_map(|o| {
-                self.meshes
-                    .get(o.mesh)
-                    .map(|m| m.bounds().transformed(&o.transform))
-            })
+            .filter_map(|o| self.meshes.get(o.mesh).map(|m| m.bounds().transformed(&o.transform)))
             .fold(Aabb::EMPTY, Aabb::union)
     }
 
@@ -123,11 +101,12 @@ impl Scene {
         self.camera.far = Some(distance + r * 2.0);
     }
 
-    /// Adds a key directional light from above-left when the scene has no light at all, so a
-    /// bare mesh file still shows its shape.
+    /// Adds a key directional light from above, on the camera's side, when the scene has no
+    /// light at all, so a bare mesh file still shows its shape.
     pub fn ensure_light(&mut self) {
         if self.lights.is_empty() {
-            let mut l = Light::directional(Vec3::new(-0.4, 1.0, 0.6), 1.0);
+            let view = (self.camera.position - self.camera.target).normalize_or_zero();
+            let mut l = Light::directional(view + Vec3::new(-0.6, 1.2, 0.0), 1.0);
             l.name = "default key light".into();
             self.lights.push(l);
         }

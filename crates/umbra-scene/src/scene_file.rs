@@ -66,25 +66,11 @@ struct MeshEntry {
 #[derive(Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 enum MeshSource {
-    Plane {
-        size: f32,
-    },
-    Box {
-        half: Vec3,
-    },
-    Sphere {
-        radius: f32,
-        segments: Option<u32>,
-        rings: Option<u32>,
-    },
-    Cylinder {
-        radius: f32,
-        height: f32,
-        segments: Option<u32>,
-    },
-    File {
-        path: String,
-    },
+    Plane { size: f32 },
+    Box { half: Vec3 },
+    Sphere { radius: f32, segments: Option<u32>, rings: Option<u32> },
+    Cylinder { radius: f32, height: f32, segments: Option<u32> },
+    File { path: String },
 }
 
 #[derive(Deserialize)]
@@ -131,19 +117,10 @@ struct LightEntry {
 
 /// Loads a TOML scene file; mesh `path`s are relative to the file's folder.
 pub fn load_scene_file(path: &Path) -> SceneResult<Scene> {
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
-        path: path.to_owned(),
-        source,
-    })?;
+    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io { path: path.to_owned(), source })?;
     let dir = path.parent().unwrap_or(Path::new("."));
-    let stem = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    parse_scene(&text, dir, &stem).map_err(|message| SceneError::SceneFile {
-        path: path.to_owned(),
-        message,
-    })
+    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    parse_scene(&text, dir, &stem).map_err(|message| SceneError::SceneFile { path: path.to_owned(), message })
 }
 
 /// Parses scene-file text; `dir` resolves mesh paths.
@@ -154,8 +131,7 @@ pub fn parse_scene(text: &str, dir: &Path, default_name: &str) -> Result<Scene, 
     scene.background = file.background.unwrap_or(scene.background);
     let mut names = Vec::new();
     for entry in file.mesh {
-        let mut mesh =
-            build_mesh(&entry.source, dir).map_err(|e| format!("mesh {:?}: {e}", entry.name))?;
+        let mut mesh = build_mesh(&entry.source, dir).map_err(|e| format!("mesh {:?}: {e}", entry.name))?;
         mesh.name = entry.name.clone();
         names.push(entry.name);
         scene.add_mesh(mesh);
@@ -166,22 +142,13 @@ pub fn parse_scene(text: &str, dir: &Path, default_name: &str) -> Result<Scene, 
             .position(|n| *n == o.mesh)
             .ok_or_else(|| format!("object refers to unknown mesh {:?}", o.mesh))?;
         let r = o.rotation_deg.unwrap_or(Vec3::ZERO);
-        let rotation = Quat::from_euler(
-            EulerRot::XYZ,
-            r.x.to_radians(),
-            r.y.to_radians(),
-            r.z.to_radians(),
-        );
+        let rotation = Quat::from_euler(EulerRot::XYZ, r.x.to_radians(), r.y.to_radians(), r.z.to_radians());
         let scale = match o.scale {
             None => Vec3::ONE,
             Some(Scale::Uniform(s)) => Vec3::splat(s),
             Some(Scale::Axes(v)) => v,
         };
-        let transform = Mat4::from_scale_rotation_translation(
-            scale,
-            rotation,
-            o.translation.unwrap_or(Vec3::ZERO),
-        );
+        let transform = Mat4::from_scale_rotation_translation(scale, rotation, o.translation.unwrap_or(Vec3::ZERO));
         let obj = scene.add_object(id, transform, o.albedo.unwrap_or(Vec3::splat(0.8)));
         obj.name = o.name.unwrap_or(o.mesh);
         obj.casts_shadows = o.casts_shadows.unwrap_or(true);
@@ -202,16 +169,12 @@ fn build_mesh(source: &MeshSource, dir: &Path) -> Result<Mesh, String> {
     Ok(match *source {
         MeshSource::Plane { size } => primitives::plane(size),
         MeshSource::Box { half } => primitives::cuboid(half),
-        MeshSource::Sphere {
-            radius,
-            segments,
-            rings,
-        } => primitives::sphere(radius, segments.unwrap_or(48), rings.unwrap_or(24)),
-        MeshSource::Cylinder {
-            radius,
-            height,
-            segments,
-        } => primitives::cylinder(radius, height, segments.unwrap_or(48)),
+        MeshSource::Sphere { radius, segments, rings } => {
+            primitives::sphere(radius, segments.unwrap_or(48), rings.unwrap_or(24))
+        }
+        MeshSource::Cylinder { radius, height, segments } => {
+            primitives::cylinder(radius, height, segments.unwrap_or(48))
+        }
         MeshSource::File { ref path } => {
             // A whole glTF file becomes one mesh, its node transforms baked in.
             let sub = crate::import_gltf(&dir.join(path)).map_err(|e| e.to_string())?;

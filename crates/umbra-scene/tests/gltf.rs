@@ -8,9 +8,7 @@ fn base64(bytes: &[u8]) -> String {
     const T: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     let mut s = String::new();
     for c in bytes.chunks(3) {
-        let n = (c[0] as u32) << 16
-            | (*c.get(1).unwrap_or(&0) as u32) << 8
-            | *c.get(2).unwrap_or(&0) as u32;
+        let n = (c[0] as u32) << 16 | (*c.get(1).unwrap_or(&0) as u32) << 8 | *c.get(2).unwrap_or(&0) as u32;
         for k in 0..4 {
             if k <= c.len() {
                 s.push(T[(n >> (18 - 6 * k) & 63) as usize] as char);
@@ -25,11 +23,7 @@ fn base64(bytes: &[u8]) -> String {
 /// A glTF JSON document with one triangle (positions + u32 indices, no normals) and `nodes`.
 fn document(indices: [u32; 3], nodes: &str, extra: &str) -> String {
     let positions = [[1.0f32, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]];
-    let mut bin: Vec<u8> = positions
-        .iter()
-        .flatten()
-        .flat_map(|f| f.to_le_bytes())
-        .collect();
+    let mut bin: Vec<u8> = positions.iter().flatten().flat_map(|f| f.to_le_bytes()).collect();
     bin.extend(indices.iter().flat_map(|i| i.to_le_bytes()));
     format!(
         r#"{{
@@ -76,10 +70,7 @@ fn node_transforms_compose_parent_times_child() {
     let scene = import_gltf_slice(document([0, 1, 2], &nodes, "").as_bytes(), "tree").unwrap();
     assert_eq!(scene.objects.len(), 1);
     let p = scene.objects[0].transform * Vec4::new(1.0, 0.0, 0.0, 1.0);
-    assert!(
-        p.truncate().abs_diff_eq(Vec3::new(3.0, 2.0, 1.0), 1e-5),
-        "landed at {p}"
-    );
+    assert!(p.truncate().abs_diff_eq(Vec3::new(3.0, 2.0, 1.0), 1e-5), "landed at {p}");
 }
 
 #[test]
@@ -97,48 +88,29 @@ fn cameras_and_punctual_lights_are_imported_in_world_space() {
   "extensionsUsed": ["KHR_lights_punctual"],
   "extensions": {"KHR_lights_punctual": {"lights": [{"type": "directional", "color": [1,0.5,0.25], "intensity": 3}]}}"#;
     let scene = import_gltf_slice(document([0, 1, 2], &nodes, extra).as_bytes(), "cam").unwrap();
-    assert!(scene
-        .camera
-        .position
-        .abs_diff_eq(Vec3::new(0.0, 1.0, 5.0), 1e-6));
-    assert!((scene.camera.target - scene.camera.position)
-        .normalize()
-        .abs_diff_eq(-Vec3::Z, 1e-6));
+    assert!(scene.camera.position.abs_diff_eq(Vec3::new(0.0, 1.0, 5.0), 1e-6));
+    assert!((scene.camera.target - scene.camera.position).normalize().abs_diff_eq(-Vec3::Z, 1e-6));
     assert_eq!(scene.camera.far, Some(50.0));
     let light = &scene.lights[0];
     assert_eq!(light.kind(), LightKind::Directional);
-    assert!(
-        light.position.truncate().abs_diff_eq(Vec3::Y, 1e-5),
-        "towards light {}",
-        light.position
-    );
+    assert!(light.position.truncate().abs_diff_eq(Vec3::Y, 1e-5), "towards light {}", light.position);
     assert_eq!(light.radiance(), Vec3::new(3.0, 1.5, 0.75));
 }
 
 #[test]
 fn malformed_files_give_errors_not_panics() {
-    assert!(matches!(
-        import_gltf_slice(b"not a gltf file", "junk"),
-        Err(SceneError::Gltf { .. })
-    ));
+    assert!(matches!(import_gltf_slice(b"not a gltf file", "junk"), Err(SceneError::Gltf { .. })));
     let doc = document([0, 1, 2], r#"{"mesh": 0}"#, "");
     let truncated = &doc.as_bytes()[..doc.len() / 2];
     assert!(import_gltf_slice(truncated, "cut").is_err());
     let bad_ref = doc.replace(r#""nodes": [{"mesh": 0}]"#, r#""nodes": [{"mesh": 7}]"#);
     assert!(import_gltf_slice(bad_ref.as_bytes(), "bad ref").is_err());
-    let e = import_gltf_slice(
-        document([0, 1, 9], r#"{"mesh": 0}"#, "").as_bytes(),
-        "bad index",
-    )
-    .unwrap_err();
+    let e = import_gltf_slice(document([0, 1, 9], r#"{"mesh": 0}"#, "").as_bytes(), "bad index").unwrap_err();
     assert!(e.to_string().contains("out of range"), "{e}");
     let mut glb = b"glTF".to_vec();
     glb.extend([2, 0, 0, 0, 255, 255, 0, 0]);
     assert!(import_gltf_slice(&glb, "bad glb").is_err());
-    assert!(matches!(
-        import_gltf(std::path::Path::new("/nonexistent/x.glb")),
-        Err(SceneError::Gltf { .. })
-    ));
+    assert!(matches!(import_gltf(std::path::Path::new("/nonexistent/x.glb")), Err(SceneError::Gltf { .. })));
 }
 
 /// `../shared/assets` beside the checkout, or `UMBRA_ASSETS`.
@@ -158,24 +130,13 @@ fn every_shared_asset_loads_with_its_documented_triangle_count() {
         ("suzanne.glb", 968),
     ];
     let dir = assets();
-    assert!(
-        dir.is_dir(),
-        "assets folder {} missing (set UMBRA_ASSETS)",
-        dir.display()
-    );
+    assert!(dir.is_dir(), "assets folder {} missing (set UMBRA_ASSETS)", dir.display());
     for (file, tris) in expected {
         let scene = import_gltf(&dir.join(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
         assert_eq!(scene.triangle_count(), tris, "{file}");
         // The assets carry no NORMAL: flat normals, three vertices per triangle.
         let mesh = &scene.meshes[0];
-        assert_eq!(
-            mesh.normals.len(),
-            3 * mesh.triangle_count(),
-            "{file} flat normals"
-        );
-        assert!(mesh
-            .normals
-            .iter()
-            .all(|n| (n.length() - 1.0).abs() < 1e-3 || *n == Vec3::ZERO));
+        assert_eq!(mesh.normals.len(), 3 * mesh.triangle_count(), "{file} flat normals");
+        assert!(mesh.normals.iter().all(|n| (n.length() - 1.0).abs() < 1e-3 || *n == Vec3::ZERO));
     }
 }

@@ -15,12 +15,7 @@ fn every_embedded_module_passes_spirv_val() {
             .stderr(Stdio::piped())
             .spawn()
             .expect("spirv-val not found: install spirv-tools (ci/setup.sh does)");
-        child
-            .stdin
-            .take()
-            .expect("stdin")
-            .write_all(&bytes)
-            .expect("write SPIR-V");
+        child.stdin.take().expect("stdin").write_all(&bytes).expect("write SPIR-V");
         let out = child.wait_with_output().expect("spirv-val runs");
         assert!(
             out.status.success(),
@@ -38,8 +33,5 @@ fn lookup_by_path_finds_the_forward_shaders() {
     let vs = umbra_shaders::get("forward/mesh.vert").expect("forward/mesh.vert embedded");
     assert_eq!(vs.stage, umbra_shaders::Stage::Vertex);
     assert_eq!(vs.spirv[0], 0x0723_0203, "SPIR-V magic number");
-    assert!(
-        umbra_shaders::get("common/scene.glsl").is_none(),
-        "include files are not modules"
-    );
+    assert!(umbra_shaders::get("common/scene.glsl").is_none(), "include files are not modules");
 }

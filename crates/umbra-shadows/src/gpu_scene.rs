@@ -6,9 +6,7 @@ use crate::RenderResult;
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 use umbra_scene::{Mesh, Scene};
-use umbra_vk::{
-    vk, Binding, Buffer, Context, DescriptorSet, DescriptorSetLayout, Resource, VertexAttribute,
-};
+use umbra_vk::{vk, Binding, Buffer, Context, DescriptorSet, DescriptorSetLayout, Resource, VertexAttribute};
 
 /// Interleaved vertex: position then normal.
 #[repr(C)]
@@ -20,16 +18,8 @@ pub(crate) struct Vertex {
 
 /// Vertex layout of [`Vertex`] at binding 0.
 pub(crate) const VERTEX_ATTRIBUTES: [VertexAttribute; 2] = [
-    VertexAttribute {
-        location: 0,
-        format: vk::Format::R32G32B32_SFLOAT,
-        offset: 0,
-    },
-    VertexAttribute {
-        location: 1,
-        format: vk::Format::R32G32B32_SFLOAT,
-        offset: 12,
-    },
+    VertexAttribute { location: 0, format: vk::Format::R32G32B32_SFLOAT, offset: 0 },
+    VertexAttribute { location: 1, format: vk::Format::R32G32B32_SFLOAT, offset: 12 },
 ];
 
 /// Bytes per vertex.
@@ -98,42 +88,20 @@ pub(crate) fn scene_set_layout(ctx: &Context) -> RenderResult<DescriptorSetLayou
         ctx,
         "scene set layout",
         &[
-            Binding {
-                binding: 0,
-                ty: vk::DescriptorType::UNIFORM_BUFFER,
-                stages,
-            },
-            Binding {
-                binding: 1,
-                ty: vk::DescriptorType::STORAGE_BUFFER,
-                stages,
-            },
-            Binding {
-                binding: 2,
-                ty: vk::DescriptorType::STORAGE_BUFFER,
-                stages,
-            },
+            Binding { binding: 0, ty: vk::DescriptorType::UNIFORM_BUFFER, stages },
+            Binding { binding: 1, ty: vk::DescriptorType::STORAGE_BUFFER, stages },
+            Binding { binding: 2, ty: vk::DescriptorType::STORAGE_BUFFER, stages },
         ],
     )?)
 }
 
 impl GpuScene {
     /// Uploads `scene` as seen with `aspect` (width / height).
-    pub fn upload(
-        ctx: &Context,
-        layout: &DescriptorSetLayout,
-        scene: &Scene,
-        aspect: f32,
-    ) -> RenderResult<Self> {
+    pub fn upload(ctx: &Context, layout: &DescriptorSetLayout, scene: &Scene, aspect: f32) -> RenderResult<Self> {
         scene.validate()?;
         let (vertices, indices, meshes) = pack_meshes(&scene.meshes);
         let usage = vk::BufferUsageFlags::VERTEX_BUFFER;
-        let vertices = Buffer::with_data(
-            ctx,
-            "scene vertices",
-            usage,
-            nonempty(bytemuck::cast_slice(&vertices)),
-        )?;
+        let vertices = Buffer::with_data(ctx, "scene vertices", usage, nonempty(bytemuck::cast_slice(&vertices)))?;
         let indices = Buffer::with_data(
             ctx,
             "scene indices",
@@ -160,18 +128,12 @@ impl GpuScene {
             .lights
             .iter()
             .map(|l| {
-                let spot = l.spot.unwrap_or(umbra_scene::Spot {
-                    direction: -Vec3::Y,
-                    inner_deg: 180.0,
-                    outer_deg: 180.0,
-                });
+                let spot =
+                    l.spot.unwrap_or(umbra_scene::Spot { direction: -Vec3::Y, inner_deg: 180.0, outer_deg: 180.0 });
                 GpuLight {
                     position: l.position.to_array(),
                     radiance: l.radiance().extend(0.0).to_array(),
-                    spot_direction: spot
-                        .direction
-                        .extend(spot.outer_deg.to_radians().cos())
-                        .to_array(),
+                    spot_direction: spot.direction.extend(spot.outer_deg.to_radians().cos()).to_array(),
                     spot_params: [
                         spot.inner_deg.to_radians().cos(),
                         if l.spot.is_some() { 1.0 } else { 0.0 },
@@ -181,38 +143,18 @@ impl GpuScene {
                 }
             })
             .collect();
-        let frame = Buffer::with_data(
-            ctx,
-            "frame uniforms",
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
-            bytemuck::bytes_of(&frame),
-        )?;
+        let frame =
+            Buffer::with_data(ctx, "frame uniforms", vk::BufferUsageFlags::UNIFORM_BUFFER, bytemuck::bytes_of(&frame))?;
         let ssbo = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let objects = Buffer::with_data(
-            ctx,
-            "objects",
-            ssbo,
-            nonempty(bytemuck::cast_slice(&objects)),
-        )?;
-        let lights =
-            Buffer::with_data(ctx, "lights", ssbo, nonempty(bytemuck::cast_slice(&lights)))?;
+        let objects = Buffer::with_data(ctx, "objects", ssbo, nonempty(bytemuck::cast_slice(&objects)))?;
+        let lights = Buffer::with_data(ctx, "lights", ssbo, nonempty(bytemuck::cast_slice(&lights)))?;
         let set = DescriptorSet::new(
             ctx,
             "scene set",
             layout,
-            &[
-                Resource::Buffer(&frame),
-                Resource::Buffer(&objects),
-                Resource::Buffer(&lights),
-            ],
+            &[Resource::Buffer(&frame), Resource::Buffer(&objects), Resource::Buffer(&lights)],
         )?;
-        Ok(Self {
-            vertices,
-            indices,
-            meshes,
-            _buffers: [frame, objects, lights],
-            set,
-        })
+        Ok(Self { vertices, indices, meshes, _buffers: [frame, objects, lights], set })
     }
 }
 
@@ -245,10 +187,9 @@ fn pack_meshes(meshes: &[Mesh]) -> (Vec<Vertex>, Vec<u32>, Vec<MeshRange>) {
             index_count: m.indices.len() as u32,
             vertex_offset: vertices.len() as i32,
         });
-        vertices.extend(m.positions.iter().zip(&m.normals).map(|(p, n)| Vertex {
-            position: p.to_array(),
-            normal: n.to_array(),
-        }));
+        vertices.extend(
+            m.positions.iter().zip(&m.normals).map(|(p, n)| Vertex { position: p.to_array(), normal: n.to_array() }),
+        );
         indices.extend_from_slice(&m.indices);
     }
     (vertices, indices, ranges)

@@ -44,10 +44,7 @@ pub fn plan_lights(scene: &Scene) -> RenderResult<Vec<LightPlan>> {
                 None
             };
             if skip.is_none() && !AVAILABLE_TECHNIQUES.contains(&l.technique) {
-                return Err(RenderError::TechniqueUnavailable {
-                    light: i,
-                    technique: l.technique,
-                });
+                return Err(RenderError::TechniqueUnavailable { light: i, technique: l.technique });
             }
             Ok(LightPlan {
                 light: i,
@@ -74,11 +71,7 @@ mod tests {
         let plan = plan_lights(&s).unwrap();
         assert!(plan[0].recorded);
         assert!(!plan[1].recorded);
-        assert!(plan[1]
-            .skipped_because
-            .as_deref()
-            .unwrap()
-            .contains("zero radiance"));
+        assert!(plan[1].skipped_because.as_deref().unwrap().contains("zero radiance"));
     }
 
     #[test]
@@ -87,10 +80,7 @@ mod tests {
         s.lights[0].technique = Technique::Hybrid;
         assert!(matches!(
             plan_lights(&s),
-            Err(RenderError::TechniqueUnavailable {
-                light: 0,
-                technique: Technique::Hybrid
-            })
+            Err(RenderError::TechniqueUnavailable { light: 0, technique: Technique::Hybrid })
         ));
     }
 }

@@ -19,8 +19,7 @@ use std::path::Path;
 use std::time::Instant;
 use umbra_scene::Scene;
 use umbra_vk::{
-    vk, Buffer, BufferDesc, ColorAttachment, Context, DepthAttachment, Image, ImageDesc,
-    ImageState, RenderTargets,
+    vk, Buffer, BufferDesc, ColorAttachment, Context, DepthAttachment, Image, ImageDesc, ImageState, RenderTargets,
 };
 
 /// The colour target format: linear 8-bit RGBA (values are written as computed, no sRGB curve).
@@ -59,25 +58,14 @@ impl Frame {
 
     /// Writes the pixels as a PNG.
     pub fn save_png(&self, path: &Path) -> RenderResult<()> {
-        image::save_buffer(
-            path,
-            &self.rgba,
-            self.width,
-            self.height,
-            image::ColorType::Rgba8,
-        )
-        .map_err(|e| RenderError::Output {
-            path: path.to_owned(),
-            message: e.to_string(),
-        })
+        image::save_buffer(path, &self.rgba, self.width, self.height, image::ColorType::Rgba8)
+            .map_err(|e| RenderError::Output { path: path.to_owned(), message: e.to_string() })
     }
 
     /// Writes the report as pretty JSON.
     pub fn save_report(&self, path: &Path) -> RenderResult<()> {
-        std::fs::write(path, self.report.to_json()).map_err(|e| RenderError::Output {
-            path: path.to_owned(),
-            message: e.to_string(),
-        })
+        std::fs::write(path, self.report.to_json())
+            .map_err(|e| RenderError::Output { path: path.to_owned(), message: e.to_string() })
     }
 }
 
@@ -105,9 +93,7 @@ impl Renderer {
         }
         let depth_format = caps.depth_stencil_format;
         if depth_format == vk::Format::UNDEFINED {
-            return Err(ctx
-                .unsupported("any depth/stencil attachment format")
-                .into());
+            return Err(ctx.unsupported("any depth/stencil attachment format").into());
         }
         let color = Image::new(
             ctx,
@@ -121,20 +107,10 @@ impl Renderer {
             ImageDesc::new_2d(depth_format, desc.width, desc.height)
                 .usage(vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT),
         )?;
-        let readback = Buffer::new(
-            ctx,
-            "colour readback",
-            BufferDesc::readback(4 * desc.width as u64 * desc.height as u64),
-        )?;
+        let readback =
+            Buffer::new(ctx, "colour readback", BufferDesc::readback(4 * desc.width as u64 * desc.height as u64))?;
         let forward = Forward::new(ctx, COLOR_FORMAT, depth_format)?;
-        Ok(Self {
-            ctx: ctx.clone(),
-            desc,
-            color,
-            depth,
-            readback,
-            forward,
-        })
+        Ok(Self { ctx: ctx.clone(), desc, color, depth, readback, forward })
     }
 
     /// The target size.
@@ -158,41 +134,22 @@ impl Renderer {
         let mut rec = self.ctx.begin_commands("frame")?;
         timer.reset(&mut rec);
         rec.transition(&[
-            (
-                &self.color,
-                ImageState::Undefined,
-                ImageState::ColorAttachment,
-            ),
-            (
-                &self.depth,
-                ImageState::Undefined,
-                ImageState::DepthStencilAttachment,
-            ),
+            (&self.color, ImageState::Undefined, ImageState::ColorAttachment),
+            (&self.depth, ImageState::Undefined, ImageState::DepthStencilAttachment),
         ]);
 
         let bg = scene.background;
         timer.begin(&mut rec, &mut log, "ambient".into(), None);
-        let clear_color = [ColorAttachment {
-            image: &self.color,
-            clear: Some([bg.x, bg.y, bg.z, 1.0]),
-        }];
+        let clear_color = [ColorAttachment { image: &self.color, clear: Some([bg.x, bg.y, bg.z, 1.0]) }];
         rec.begin_rendering(&RenderTargets {
             color: &clear_color,
-            depth: Some(DepthAttachment {
-                image: &self.depth,
-                view: None,
-                clear: Some((1.0, 0)),
-                read_only: false,
-            }),
+            depth: Some(DepthAttachment { image: &self.depth, view: None, clear: Some((1.0, 0)), read_only: false }),
         });
         self.forward.record_ambient(&mut rec, &gpu, scene, &mut log);
         rec.end_rendering();
         timer.end(&mut rec, &log);
 
-        let load_color = [ColorAttachment {
-            image: &self.color,
-            clear: None,
-        }];
+        let load_color = [ColorAttachment { image: &self.color, clear: None }];
         for plan in lights.iter().filter(|l| l.recorded) {
             timer.begin(
                 &mut rec,
@@ -202,25 +159,15 @@ impl Renderer {
             );
             rec.begin_rendering(&RenderTargets {
                 color: &load_color,
-                depth: Some(DepthAttachment {
-                    image: &self.depth,
-                    view: None,
-                    clear: None,
-                    read_only: false,
-                }),
+                depth: Some(DepthAttachment { image: &self.depth, view: None, clear: None, read_only: false }),
             });
-            self.forward
-                .record_light(&mut rec, &gpu, scene, plan.light as u32, &mut log);
+            self.forward.record_light(&mut rec, &gpu, scene, plan.light as u32, &mut log);
             rec.end_rendering();
             timer.end(&mut rec, &log);
         }
 
         timer.begin(&mut rec, &mut log, "readback".into(), None);
-        rec.transition(&[(
-            &self.color,
-            ImageState::ColorAttachment,
-            ImageState::TransferSrc,
-        )]);
+        rec.transition(&[(&self.color, ImageState::ColorAttachment, ImageState::TransferSrc)]);
         rec.copy_image_to_buffer(&self.color, 0, &self.readback);
         timer.end(&mut rec, &log);
         self.ctx.submit_and_wait(rec)?;
@@ -231,9 +178,7 @@ impl Renderer {
         let total_gpu_ms = passes.iter().map(|p| p.gpu_ms).sum::<Option<f64>>();
         let report = FrameReport {
             device: caps.device_name.clone(),
-            driver: format!("{} {}", caps.driver_name, caps.driver_info)
-                .trim()
-                .to_owned(),
+            driver: format!("{} {}", caps.driver_name, caps.driver_info).trim().to_owned(),
             capabilities: caps.clone(),
             scene: SceneSummary::of(scene),
             width: self.desc.width,
@@ -243,11 +188,6 @@ impl Renderer {
             total_gpu_ms,
             cpu_frame_ms: started.elapsed().as_secs_f64() * 1e3,
         };
-        Ok(Frame {
-            width: self.desc.width,
-            height: self.desc.height,
-            rgba,
-            report,
-        })
+        Ok(Frame { width: self.desc.width, height: self.desc.height, rgba, report })
     }
 }

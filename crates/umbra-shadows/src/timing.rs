@@ -43,12 +43,7 @@ impl PassTimer {
     /// A timer for at most `max_passes` passes; without timestamps it only labels.
     pub fn new(ctx: &umbra_vk::Context, max_passes: usize) -> umbra_vk::VkResult<Self> {
         let pool = if ctx.capabilities().timestamps {
-            Some(QueryPool::new(
-                ctx,
-                "pass timestamps",
-                QueryKind::Timestamp,
-                2 * max_passes.max(1) as u32,
-            )?)
+            Some(QueryPool::new(ctx, "pass timestamps", QueryKind::Timestamp, 2 * max_passes.max(1) as u32)?)
         } else {
             None
         };
@@ -63,22 +58,10 @@ impl PassTimer {
     }
 
     /// Opens a pass: label plus start timestamp.
-    pub fn begin<'a>(
-        &'a self,
-        rec: &mut Recorder<'a>,
-        log: &mut PassLog,
-        name: String,
-        light: Option<usize>,
-    ) {
+    pub fn begin<'a>(&'a self, rec: &mut Recorder<'a>, log: &mut PassLog, name: String, light: Option<usize>) {
         rec.begin_label(&name);
         let index = 2 * log.passes.len() as u32;
-        log.passes.push(PassReport {
-            name,
-            light,
-            draws: 0,
-            triangles: 0,
-            gpu_ms: None,
-        });
+        log.passes.push(PassReport { name, light, draws: 0, triangles: 0, gpu_ms: None });
         if let Some(p) = &self.pool {
             rec.write_timestamp(p, index);
         }

@@ -19,29 +19,17 @@ pub struct BufferDesc {
 impl BufferDesc {
     /// A device-local buffer of `size` bytes with `usage` (plus `TRANSFER_DST` for uploads).
     pub fn gpu_only(size: u64, usage: vk::BufferUsageFlags) -> Self {
-        Self {
-            size,
-            usage: usage | vk::BufferUsageFlags::TRANSFER_DST,
-            memory: Memory::GpuOnly,
-        }
+        Self { size, usage: usage | vk::BufferUsageFlags::TRANSFER_DST, memory: Memory::GpuOnly }
     }
 
     /// A host-visible buffer written by the CPU.
     pub fn cpu_to_gpu(size: u64, usage: vk::BufferUsageFlags) -> Self {
-        Self {
-            size,
-            usage,
-            memory: Memory::CpuToGpu,
-        }
+        Self { size, usage, memory: Memory::CpuToGpu }
     }
 
     /// A host-visible buffer the GPU copies into for the CPU to read.
     pub fn readback(size: u64) -> Self {
-        Self {
-            size,
-            usage: vk::BufferUsageFlags::TRANSFER_DST,
-            memory: Memory::GpuToCpu,
-        }
+        Self { size, usage: vk::BufferUsageFlags::TRANSFER_DST, memory: Memory::GpuToCpu }
     }
 
     /// Same description with other usage flags.
@@ -63,10 +51,7 @@ pub struct Buffer {
 
 impl std::fmt::Debug for Buffer {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Buffer")
-            .field("raw", &self.raw)
-            .field("desc", &self.desc)
-            .finish()
+        f.debug_struct("Buffer").field("raw", &self.raw).field("desc", &self.desc).finish()
     }
 }
 
@@ -74,15 +59,10 @@ impl Buffer {
     /// Creates a named buffer.
     pub fn new(ctx: &Context, name: &str, desc: BufferDesc) -> VkResult<Self> {
         if desc.size == 0 {
-            return Err(VkError::InvalidDesc {
-                what: "buffer",
-                why: format!("{name}: size is zero"),
-            });
+            return Err(VkError::InvalidDesc { what: "buffer", why: format!("{name}: size is zero") });
         }
-        let info = vk::BufferCreateInfo::default()
-            .size(desc.size)
-            .usage(desc.usage)
-            .sharing_mode(vk::SharingMode::EXCLUSIVE);
+        let info =
+            vk::BufferCreateInfo::default().size(desc.size).usage(desc.usage).sharing_mode(vk::SharingMode::EXCLUSIVE);
         let device = &ctx.inner.device;
         // SAFETY: valid create info; the buffer is destroyed in `Drop`.
         let raw = unsafe { device.create_buffer(&info, None) }.call("vkCreateBuffer")?;
@@ -105,30 +85,18 @@ impl Buffer {
                 return Err(e);
             }
         };
-        let buffer = Buffer {
-            raw,
-            desc,
-            allocation: Some(allocation),
-            ctx: ctx.clone(),
-        };
+        let buffer = Buffer { raw, desc, allocation: Some(allocation), ctx: ctx.clone() };
         // SAFETY: memory and offset come from an allocation made for these requirements.
         unsafe {
             let a = buffer.allocation.as_ref().ok_or(VkError::Poisoned)?;
-            device
-                .bind_buffer_memory(raw, a.memory(), a.offset())
-                .call("vkBindBufferMemory")?;
+            device.bind_buffer_memory(raw, a.memory(), a.offset()).call("vkBindBufferMemory")?;
         }
         ctx.set_name(raw, name);
         Ok(buffer)
     }
 
     /// Creates a device-local buffer holding `data`, uploaded through a staging buffer.
-    pub fn with_data(
-        ctx: &Context,
-        name: &str,
-        usage: vk::BufferUsageFlags,
-        data: &[u8],
-    ) -> VkResult<Self> {
+    pub fn with_data(ctx: &Context, name: &str, usage: vk::BufferUsageFlags, data: &[u8]) -> VkResult<Self> {
         let buffer = Buffer::new(ctx, name, BufferDesc::gpu_only(data.len() as u64, usage))?;
         let staging = Buffer::new(
             ctx,
@@ -148,12 +116,10 @@ impl Buffer {
         let end = offset + data.len() as u64;
         let size = self.desc.size;
         let slice = self.mapped_mut()?;
-        let dst = slice
-            .get_mut(offset as usize..end as usize)
-            .ok_or_else(|| VkError::InvalidDesc {
-                what: "buffer write",
-                why: format!("bytes {offset}..{end} past the size {size}"),
-            })?;
+        let dst = slice.get_mut(offset as usize..end as usize).ok_or_else(|| VkError::InvalidDesc {
+            what: "buffer write",
+            why: format!("bytes {offset}..{end} past the size {size}"),
+        })?;
         dst.copy_from_slice(data);
         Ok(())
     }
@@ -165,27 +131,18 @@ impl Buffer {
 
     fn mapped(&self) -> VkResult<&[u8]> {
         let a = self.allocation.as_ref().ok_or(VkError::Poisoned)?;
-        Ok(a.mapped_slice().ok_or_else(|| self.not_mapped())?)
+        a.mapped_slice().ok_or_else(|| not_mapped(self.desc.memory))
     }
 
     fn mapped_mut(&mut self) -> VkResult<&mut [u8]> {
         let memory = self.desc.memory;
         let a = self.allocation.as_mut().ok_or(VkError::Poisoned)?;
-        a.mapped_slice_mut().ok_or(VkError::InvalidDesc {
-            what: "buffer map",
-            why: format!("buffer of {memory:?} memory is not host-visible"),
-        })
+        a.mapped_slice_mut().ok_or_else(|| not_mapped(memory))
     }
+}
 
-    fn not_mapped(&self) -> VkError {
-        VkError::InvalidDesc {
-            what: "buffer map",
-            why: format!(
-                "buffer of {:?} memory is not host-visible",
-                self.desc.memory
-            ),
-        }
-    }
+fn not_mapped(memory: Memory) -> VkError {
+    VkError::InvalidDesc { what: "buffer map", why: format!("buffer of {memory:?} memory is not host-visible") }
 }
 
 impl Drop for Buffer {

@@ -4,11 +4,8 @@ use ash::vk;
 use serde::Serialize;
 
 /// Depth/stencil formats umbra may use, best first.
-pub const DEPTH_STENCIL_PREFERENCE: [vk::Format; 3] = [
-    vk::Format::D32_SFLOAT_S8_UINT,
-    vk::Format::D24_UNORM_S8_UINT,
-    vk::Format::D16_UNORM_S8_UINT,
-];
+pub const DEPTH_STENCIL_PREFERENCE: [vk::Format; 3] =
+    [vk::Format::D32_SFLOAT_S8_UINT, vk::Format::D24_UNORM_S8_UINT, vk::Format::D16_UNORM_S8_UINT];
 
 /// The device's identity and the optional features umbra uses, as enabled on the device.
 ///
@@ -82,8 +79,7 @@ impl Capabilities {
     pub(crate) fn from_parts(p: Probe<'_>) -> Self {
         let limits = &p.properties.limits;
         let c_str = |s: Result<&std::ffi::CStr, _>| {
-            s.map(|c: &std::ffi::CStr| c.to_string_lossy().into_owned())
-                .unwrap_or_default()
+            s.map(|c: &std::ffi::CStr| c.to_string_lossy().into_owned()).unwrap_or_default()
         };
         let v = p.properties.api_version;
         let timestamp_valid_bits = p.queue_family.timestamp_valid_bits;
@@ -107,22 +103,10 @@ impl Capabilities {
             timestamp_valid_bits,
             geometry_shader: p.enabled.geometry_shader == vk::TRUE,
             wide_lines,
-            line_width_range: if wide_lines {
-                limits.line_width_range
-            } else {
-                [1.0, 1.0]
-            },
+            line_width_range: if wide_lines { limits.line_width_range } else { [1.0, 1.0] },
             conservative_rasterization: p.conservative_rasterization,
-            depth_stencil_formats: p
-                .depth_stencil_formats
-                .iter()
-                .map(|f| format!("{f:?}"))
-                .collect(),
-            depth_stencil_format: p
-                .depth_stencil_formats
-                .first()
-                .copied()
-                .unwrap_or(vk::Format::UNDEFINED),
+            depth_stencil_formats: p.depth_stencil_formats.iter().map(|f| format!("{f:?}")).collect(),
+            depth_stencil_format: p.depth_stencil_formats.first().copied().unwrap_or(vk::Format::UNDEFINED),
             depth32_sampled: p.depth32_sampled,
             max_image_dimension_2d: limits.max_image_dimension2_d,
             max_image_dimension_cube: limits.max_image_dimension_cube,
@@ -143,9 +127,7 @@ pub fn device_type_name(t: vk::PhysicalDeviceType) -> &'static str {
 }
 
 /// The optional core features umbra enables when the device has them.
-pub(crate) fn wanted_features(
-    supported: &vk::PhysicalDeviceFeatures,
-) -> vk::PhysicalDeviceFeatures {
+pub(crate) fn wanted_features(supported: &vk::PhysicalDeviceFeatures) -> vk::PhysicalDeviceFeatures {
     vk::PhysicalDeviceFeatures {
         depth_bounds: supported.depth_bounds,
         depth_clamp: supported.depth_clamp,

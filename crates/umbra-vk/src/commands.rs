@@ -6,9 +6,7 @@
 
 use crate::error::{CallContext, VkResult};
 use crate::image::format_aspect;
-use crate::{
-    Buffer, Context, DescriptorSet, GraphicsPipeline, Image, ImageState, PipelineLayout, QueryPool,
-};
+use crate::{Buffer, Context, DescriptorSet, GraphicsPipeline, Image, ImageState, PipelineLayout, QueryPool};
 use ash::vk;
 use std::ffi::CString;
 use std::marker::PhantomData;
@@ -58,30 +56,18 @@ pub struct Recorder<'a> {
 impl Context {
     /// Starts recording a one-time command buffer named `name`.
     pub fn begin_commands<'a>(&self, name: &str) -> VkResult<Recorder<'a>> {
-        let pool = self
-            .inner
-            .command_pool
-            .lock()
-            .map_err(|_| crate::VkError::Poisoned)?;
+        let pool = self.inner.command_pool.lock().map_err(|_| crate::VkError::Poisoned)?;
         let info = vk::CommandBufferAllocateInfo::default()
             .command_pool(*pool)
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
         // SAFETY: the pool is externally synchronised by its mutex.
-        let cmd = unsafe { self.inner.device.allocate_command_buffers(&info) }
-            .call("vkAllocateCommandBuffers")?[0];
+        let cmd = unsafe { self.inner.device.allocate_command_buffers(&info) }.call("vkAllocateCommandBuffers")?[0];
         drop(pool);
-        let rec = Recorder {
-            ctx: self.clone(),
-            cmd,
-            labels: 0,
-            _borrows: PhantomData,
-        };
-        let begin = vk::CommandBufferBeginInfo::default()
-            .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+        let rec = Recorder { ctx: self.clone(), cmd, labels: 0, _borrows: PhantomData };
+        let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
         // SAFETY: fresh command buffer, recorded from this thread only.
-        unsafe { self.inner.device.begin_command_buffer(cmd, &begin) }
-            .call("vkBeginCommandBuffer")?;
+        unsafe { self.inner.device.begin_command_buffer(cmd, &begin) }.call("vkBeginCommandBuffer")?;
         self.set_name(cmd, name);
         Ok(rec)
     }
@@ -95,8 +81,7 @@ impl Context {
         // SAFETY: the recorder owns `cmd`, which is in the recording state.
         unsafe { device.end_command_buffer(rec.cmd) }.call("vkEndCommandBuffer")?;
         // SAFETY: plain object creation; destroyed below.
-        let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }
-            .call("vkCreateFence")?;
+        let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }.call("vkCreateFence")?;
         let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(rec.cmd)];
         let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmds)];
         let result = self.queue().and_then(|q| {
@@ -106,9 +91,7 @@ impl Context {
         });
         // SAFETY: waiting on our own fence, then destroying it once signalled (or never submitted).
         let waited = result.and_then(|()| unsafe {
-            device
-                .wait_for_fences(&[fence], true, SUBMIT_TIMEOUT_NS)
-                .call("vkWaitForFences")
+            device.wait_for_fences(&[fence], true, SUBMIT_TIMEOUT_NS).call("vkWaitForFences")
         });
         if waited.is_err() {
             // SAFETY: make sure nothing still runs before the fence and command buffer go away.
@@ -126,12 +109,7 @@ impl Drop for Recorder<'_> {
     fn drop(&mut self) {
         if let Ok(pool) = self.ctx.inner.command_pool.lock() {
             // SAFETY: the buffer finished executing (submit waits) or was never submitted.
-            unsafe {
-                self.ctx
-                    .inner
-                    .device
-                    .free_command_buffers(*pool, &[self.cmd])
-            };
+            unsafe { self.ctx.inner.device.free_command_buffers(*pool, &[self.cmd]) };
         }
     }
 }
@@ -153,9 +131,7 @@ impl<'a> Recorder<'a> {
             return;
         };
         let name = CString::new(name.replace('\0', " ")).unwrap_or_default();
-        let label = vk::DebugUtilsLabelEXT::default()
-            .label_name(&name)
-            .color([0.35, 0.2, 0.6, 1.0]);
+        let label = vk::DebugUtilsLabelEXT::default().label_name(&name).color([0.35, 0.2, 0.6, 1.0]);
         // SAFETY: recording command buffer; the label string outlives the call.
         unsafe { d.cmd_begin_debug_utils_label(self.cmd, &label) };
     }
@@ -226,53 +202,29 @@ impl<'a> Recorder<'a> {
                 vk::RenderingAttachmentInfo::default()
                     .image_view(c.image.view)
                     .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-                    .load_op(if c.clear.is_some() {
-                        vk::AttachmentLoadOp::CLEAR
-                    } else {
-                        vk::AttachmentLoadOp::LOAD
-                    })
+                    .load_op(if c.clear.is_some() { vk::AttachmentLoadOp::CLEAR } else { vk::AttachmentLoadOp::LOAD })
                     .store_op(vk::AttachmentStoreOp::STORE)
-                    .clear_value(vk::ClearValue {
-                        color: vk::ClearColorValue {
-                            float32: c.clear.unwrap_or_default(),
-                        },
-                    })
+                    .clear_value(vk::ClearValue { color: vk::ClearColorValue { float32: c.clear.unwrap_or_default() } })
             })
             .collect();
         let depth = targets.depth.map(|d| {
             let (layout, store) = if d.read_only {
-                (
-                    vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL,
-                    vk::AttachmentStoreOp::NONE,
-                )
+                (vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL, vk::AttachmentStoreOp::NONE)
             } else {
-                (
-                    vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
-                    vk::AttachmentStoreOp::STORE,
-                )
+                (vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL, vk::AttachmentStoreOp::STORE)
             };
             let (depth, stencil) = d.clear.unwrap_or((1.0, 0));
             vk::RenderingAttachmentInfo::default()
                 .image_view(d.view.unwrap_or(d.image.view))
                 .image_layout(layout)
-                .load_op(if d.clear.is_some() {
-                    vk::AttachmentLoadOp::CLEAR
-                } else {
-                    vk::AttachmentLoadOp::LOAD
-                })
+                .load_op(if d.clear.is_some() { vk::AttachmentLoadOp::CLEAR } else { vk::AttachmentLoadOp::LOAD })
                 .store_op(store)
-                .clear_value(vk::ClearValue {
-                    depth_stencil: vk::ClearDepthStencilValue { depth, stencil },
-                })
+                .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth, stencil } })
         });
-        let has_stencil = targets.depth.is_some_and(|d| {
-            format_aspect(d.image.desc.format).contains(vk::ImageAspectFlags::STENCIL)
-        });
+        let has_stencil =
+            targets.depth.is_some_and(|d| format_aspect(d.image.desc.format).contains(vk::ImageAspectFlags::STENCIL));
         let mut info = vk::RenderingInfo::default()
-            .render_area(vk::Rect2D {
-                offset: vk::Offset2D::default(),
-                extent,
-            })
+            .render_area(vk::Rect2D { offset: vk::Offset2D::default(), extent })
             .layer_count(1)
             .color_attachments(&color);
         if let Some(d) = depth.as_ref() {
@@ -296,18 +248,8 @@ impl<'a> Recorder<'a> {
     /// covering `extent`. `begin_rendering` already does this for the full target.
     pub fn set_viewport(&mut self, extent: vk::Extent2D) {
         let (w, h) = (extent.width as f32, extent.height as f32);
-        let viewport = vk::Viewport {
-            x: 0.0,
-            y: h,
-            width: w,
-            height: -h,
-            min_depth: 0.0,
-            max_depth: 1.0,
-        };
-        let scissor = vk::Rect2D {
-            offset: vk::Offset2D::default(),
-            extent,
-        };
+        let viewport = vk::Viewport { x: 0.0, y: h, width: w, height: -h, min_depth: 0.0, max_depth: 1.0 };
+        let scissor = vk::Rect2D { offset: vk::Offset2D::default(), extent };
         // SAFETY: every umbra pipeline has dynamic viewport and scissor.
         unsafe {
             self.device().cmd_set_viewport(self.cmd, 0, &[viewport]);
@@ -318,19 +260,11 @@ impl<'a> Recorder<'a> {
     /// Binds a graphics pipeline.
     pub fn bind_pipeline(&mut self, pipeline: &'a GraphicsPipeline) {
         // SAFETY: the pipeline is alive for 'a.
-        unsafe {
-            self.device()
-                .cmd_bind_pipeline(self.cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw)
-        };
+        unsafe { self.device().cmd_bind_pipeline(self.cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw) };
     }
 
     /// Binds a descriptor set at `index`.
-    pub fn bind_descriptor_set(
-        &mut self,
-        layout: &'a PipelineLayout,
-        index: u32,
-        set: &'a DescriptorSet,
-    ) {
+    pub fn bind_descriptor_set(&mut self, layout: &'a PipelineLayout, index: u32, set: &'a DescriptorSet) {
         // SAFETY: set and layout are alive for 'a.
         unsafe {
             self.device().cmd_bind_descriptor_sets(
@@ -348,32 +282,20 @@ impl<'a> Recorder<'a> {
     pub fn push_constants<T: bytemuck::Pod>(&mut self, layout: &'a PipelineLayout, data: &T) {
         // SAFETY: `PipelineLayout` checked the size; stages match its push range.
         unsafe {
-            self.device().cmd_push_constants(
-                self.cmd,
-                layout.raw,
-                layout.push_stages,
-                0,
-                bytemuck::bytes_of(data),
-            )
+            self.device().cmd_push_constants(self.cmd, layout.raw, layout.push_stages, 0, bytemuck::bytes_of(data))
         };
     }
 
     /// Binds a vertex buffer at binding 0.
     pub fn bind_vertex_buffer(&mut self, buffer: &'a Buffer) {
         // SAFETY: alive for 'a.
-        unsafe {
-            self.device()
-                .cmd_bind_vertex_buffers(self.cmd, 0, &[buffer.raw], &[0])
-        };
+        unsafe { self.device().cmd_bind_vertex_buffers(self.cmd, 0, &[buffer.raw], &[0]) };
     }
 
     /// Binds a `u32` index buffer.
     pub fn bind_index_buffer(&mut self, buffer: &'a Buffer) {
         // SAFETY: alive for 'a.
-        unsafe {
-            self.device()
-                .cmd_bind_index_buffer(self.cmd, buffer.raw, 0, vk::IndexType::UINT32)
-        };
+        unsafe { self.device().cmd_bind_index_buffer(self.cmd, buffer.raw, 0, vk::IndexType::UINT32) };
     }
 
     /// Draws `count` vertices without an index buffer.
@@ -385,19 +307,13 @@ impl<'a> Recorder<'a> {
     /// Draws `count` indices from `first_index`, adding `vertex_offset` to each.
     pub fn draw_indexed(&mut self, count: u32, first_index: u32, vertex_offset: i32) {
         // SAFETY: recording inside a rendering pass with bound pipeline and buffers.
-        unsafe {
-            self.device()
-                .cmd_draw_indexed(self.cmd, count, 1, first_index, vertex_offset, 0)
-        };
+        unsafe { self.device().cmd_draw_indexed(self.cmd, count, 1, first_index, vertex_offset, 0) };
     }
 
     /// Sets depth bias (pipelines with `DepthState::bias`).
     pub fn set_depth_bias(&mut self, constant: f32, clamp: f32, slope: f32) {
         // SAFETY: dynamic state of the bound pipeline.
-        unsafe {
-            self.device()
-                .cmd_set_depth_bias(self.cmd, constant, clamp, slope)
-        };
+        unsafe { self.device().cmd_set_depth_bias(self.cmd, constant, clamp, slope) };
     }
 
     /// Sets the depth-bounds range (pipelines with `DepthState::bounds_test`).
@@ -409,47 +325,27 @@ impl<'a> Recorder<'a> {
     /// Sets the stencil reference of both faces (pipelines with stencil).
     pub fn set_stencil_reference(&mut self, reference: u32) {
         // SAFETY: dynamic state of the bound pipeline.
-        unsafe {
-            self.device().cmd_set_stencil_reference(
-                self.cmd,
-                vk::StencilFaceFlags::FRONT_AND_BACK,
-                reference,
-            )
-        };
+        unsafe { self.device().cmd_set_stencil_reference(self.cmd, vk::StencilFaceFlags::FRONT_AND_BACK, reference) };
     }
 
     /// Copies `size` bytes from the start of `src` to the start of `dst`.
     pub fn copy_buffer(&mut self, src: &'a Buffer, dst: &'a Buffer, size: u64) {
-        let region = vk::BufferCopy {
-            src_offset: 0,
-            dst_offset: 0,
-            size,
-        };
+        let region = vk::BufferCopy { src_offset: 0, dst_offset: 0, size };
         // SAFETY: both alive for 'a; sizes are the caller's, checked by validation.
-        unsafe {
-            self.device()
-                .cmd_copy_buffer(self.cmd, src.raw, dst.raw, &[region])
-        };
+        unsafe { self.device().cmd_copy_buffer(self.cmd, src.raw, dst.raw, &[region]) };
     }
 
     /// Fills a buffer with a repeated `u32` (e.g. a poison value before a readback).
     pub fn fill_buffer(&mut self, buffer: &'a Buffer, value: u32) {
         // SAFETY: alive for 'a; the buffer has TRANSFER_DST usage (readback buffers do).
-        unsafe {
-            self.device()
-                .cmd_fill_buffer(self.cmd, buffer.raw, 0, vk::WHOLE_SIZE, value)
-        };
+        unsafe { self.device().cmd_fill_buffer(self.cmd, buffer.raw, 0, vk::WHOLE_SIZE, value) };
     }
 
     /// Copies one layer of an image in [`ImageState::TransferSrc`] into a buffer, tightly packed.
     /// For depth/stencil images the depth aspect is copied.
     pub fn copy_image_to_buffer(&mut self, image: &'a Image, layer: u32, buffer: &'a Buffer) {
         let aspect = image.desc.aspect();
-        let aspect = if aspect.contains(vk::ImageAspectFlags::DEPTH) {
-            vk::ImageAspectFlags::DEPTH
-        } else {
-            aspect
-        };
+        let aspect = if aspect.contains(vk::ImageAspectFlags::DEPTH) { vk::ImageAspectFlags::DEPTH } else { aspect };
         let region = vk::BufferImageCopy {
             buffer_offset: 0,
             buffer_row_length: 0,
@@ -461,11 +357,7 @@ impl<'a> Recorder<'a> {
                 layer_count: 1,
             },
             image_offset: vk::Offset3D::default(),
-            image_extent: vk::Extent3D {
-                width: image.desc.width,
-                height: image.desc.height,
-                depth: 1,
-            },
+            image_extent: vk::Extent3D { width: image.desc.width, height: image.desc.height, depth: 1 },
         };
         // SAFETY: both alive for 'a; the image is in TRANSFER_SRC_OPTIMAL (caller transitions).
         unsafe {
@@ -482,32 +374,19 @@ impl<'a> Recorder<'a> {
     /// Resets every query of a pool (record before the first write of a frame).
     pub fn reset_queries(&mut self, pool: &'a QueryPool) {
         // SAFETY: alive for 'a; outside a rendering pass.
-        unsafe {
-            self.device()
-                .cmd_reset_query_pool(self.cmd, pool.raw, 0, pool.count)
-        };
+        unsafe { self.device().cmd_reset_query_pool(self.cmd, pool.raw, 0, pool.count) };
     }
 
     /// Writes a timestamp once all previous commands completed.
     pub fn write_timestamp(&mut self, pool: &'a QueryPool, index: u32) {
         // SAFETY: alive for 'a; the pool is a timestamp pool (checked at creation).
-        unsafe {
-            self.device().cmd_write_timestamp2(
-                self.cmd,
-                vk::PipelineStageFlags2::ALL_COMMANDS,
-                pool.raw,
-                index,
-            )
-        };
+        unsafe { self.device().cmd_write_timestamp2(self.cmd, vk::PipelineStageFlags2::ALL_COMMANDS, pool.raw, index) };
     }
 
     /// Begins an occlusion or pipeline-statistics query.
     pub fn begin_query(&mut self, pool: &'a QueryPool, index: u32) {
         // SAFETY: alive for 'a.
-        unsafe {
-            self.device()
-                .cmd_begin_query(self.cmd, pool.raw, index, vk::QueryControlFlags::empty())
-        };
+        unsafe { self.device().cmd_begin_query(self.cmd, pool.raw, index, vk::QueryControlFlags::empty()) };
     }
 
     /// Ends a query begun with [`Recorder::begin_query`].

@@ -102,9 +102,7 @@ pub struct Context {
 
 impl std::fmt::Debug for Context {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Context")
-            .field("device", &self.inner.caps.device_name)
-            .finish_non_exhaustive()
+        f.debug_struct("Context").field("device", &self.inner.caps.device_name).finish_non_exhaustive()
     }
 }
 
@@ -163,19 +161,10 @@ impl Context {
     /// instance [`Context::validation`] stays at zero: the engine's own messenger sees them.
     pub fn from_external(ext: ExternalDevice) -> VkResult<Self> {
         // SAFETY: the caller guarantees `physical_device` belongs to `instance`.
-        let props = unsafe {
-            ext.instance
-                .get_physical_device_properties(ext.physical_device)
-        };
-        let name = props
-            .device_name_as_c_str()
-            .map(|c| c.to_string_lossy().into_owned())
-            .unwrap_or_default();
+        let props = unsafe { ext.instance.get_physical_device_properties(ext.physical_device) };
+        let name = props.device_name_as_c_str().map(|c| c.to_string_lossy().into_owned()).unwrap_or_default();
         if props.api_version < vk::API_VERSION_1_3 {
-            return Err(VkError::Unsupported {
-                device: name,
-                what: "Vulkan 1.3 (device reports less)".into(),
-            });
+            return Err(VkError::Unsupported { device: name, what: "Vulkan 1.3 (device reports less)".into() });
         }
         let debug = ext.debug_utils.then(|| DebugUtils {
             instance: ash::ext::debug_utils::Instance::new(&ext.entry, &ext.instance),
@@ -198,13 +187,7 @@ impl Context {
     }
 
     fn assemble(a: Assembly) -> VkResult<Self> {
-        let caps = probe(
-            &a.instance,
-            a.physical_device,
-            a.queue_family,
-            &a.enabled,
-            a.conservative,
-        );
+        let caps = probe(&a.instance, a.physical_device, a.queue_family, &a.enabled, a.conservative);
         let allocator = Allocator::new(&AllocatorCreateDesc {
             instance: a.instance.clone(),
             device: a.device.clone(),
@@ -222,14 +205,9 @@ impl Context {
         };
         let pool_info = vk::CommandPoolCreateInfo::default()
             .queue_family_index(a.queue_family)
-            .flags(
-                vk::CommandPoolCreateFlags::TRANSIENT
-                    | vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER,
-            );
+            .flags(vk::CommandPoolCreateFlags::TRANSIENT | vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
         // SAFETY: valid device; the pool is destroyed in `Inner::drop`.
-        let pool = match unsafe { a.device.create_command_pool(&pool_info, None) }
-            .call("vkCreateCommandPool")
-        {
+        let pool = match unsafe { a.device.create_command_pool(&pool_info, None) }.call("vkCreateCommandPool") {
             Ok(p) => p,
             Err(e) => {
                 drop(allocator);
@@ -237,12 +215,7 @@ impl Context {
                 return Err(e);
             }
         };
-        log::info!(
-            "umbra-vk: using {} ({}, {})",
-            caps.device_name,
-            caps.driver_name,
-            caps.driver_info
-        );
+        log::info!("umbra-vk: using {} ({}, {})", caps.device_name, caps.driver_name, caps.driver_info);
         let ctx = Context {
             inner: Arc::new(Inner {
                 _entry: a.entry,
@@ -305,9 +278,7 @@ impl Context {
         let Ok(name) = CString::new(name.replace('\0', " ")) else {
             return;
         };
-        let info = vk::DebugUtilsObjectNameInfoEXT::default()
-            .object_handle(handle)
-            .object_name(&name);
+        let info = vk::DebugUtilsObjectNameInfoEXT::default().object_handle(handle).object_name(&name);
         // SAFETY: `handle` is a live object of this device; the name outlives the call.
         if let Err(e) = unsafe { d.device.set_debug_utils_object_name(&info) } {
             log::debug!("vkSetDebugUtilsObjectNameEXT({name:?}) failed: {e}");
@@ -335,10 +306,7 @@ impl Context {
 
     /// An `Unsupported` error naming this device.
     pub fn unsupported(&self, what: impl Into<String>) -> VkError {
-        VkError::Unsupported {
-            device: self.inner.caps.device_name.clone(),
-            what: what.into(),
-        }
+        VkError::Unsupported { device: self.inner.caps.device_name.clone(), what: what.into() }
     }
 }
 
@@ -394,11 +362,7 @@ impl Drop for Inner {
     }
 }
 
-type InstanceParts = (
-    ash::Instance,
-    Option<ash::ext::debug_utils::Instance>,
-    vk::DebugUtilsMessengerEXT,
-);
+type InstanceParts = (ash::Instance, Option<ash::ext::debug_utils::Instance>, vk::DebugUtilsMessengerEXT);
 
 fn create_instance(
     entry: &ash::Entry,
@@ -408,21 +372,14 @@ fn create_instance(
     // SAFETY: plain queries of the loader.
     let (layers, exts) = unsafe {
         (
-            entry
-                .enumerate_instance_layer_properties()
-                .call("vkEnumerateInstanceLayerProperties")?,
-            entry
-                .enumerate_instance_extension_properties(None)
-                .call("vkEnumerateInstanceExtensionProperties")?,
+            entry.enumerate_instance_layer_properties().call("vkEnumerateInstanceLayerProperties")?,
+            entry.enumerate_instance_extension_properties(None).call("vkEnumerateInstanceExtensionProperties")?,
         )
     };
     let has_ext = |n: &CStr| exts.iter().any(|e| e.extension_name_as_c_str() == Ok(n));
     let mut layer_names = Vec::new();
     if options.validation {
-        if !layers
-            .iter()
-            .any(|l| l.layer_name_as_c_str() == Ok(VALIDATION_LAYER))
-        {
+        if !layers.iter().any(|l| l.layer_name_as_c_str() == Ok(VALIDATION_LAYER)) {
             return Err(VkError::ValidationLayerMissing);
         }
         layer_names.push(VALIDATION_LAYER.as_ptr());
@@ -464,47 +421,28 @@ fn create_instance(
         Err(result) => {
             // SAFETY: nothing else was created from this instance.
             unsafe { instance.destroy_instance(None) };
-            Err(VkError::Call {
-                call: "vkCreateDebugUtilsMessengerEXT",
-                result,
-            })
+            Err(VkError::Call { call: "vkCreateDebugUtilsMessengerEXT", result })
         }
     }
 }
 
-type DeviceParts = (
-    vk::PhysicalDevice,
-    ash::Device,
-    u32,
-    vk::PhysicalDeviceFeatures,
-    bool,
-);
+type DeviceParts = (vk::PhysicalDevice, ash::Device, u32, vk::PhysicalDeviceFeatures, bool);
 
 fn pick_and_create_device(instance: &ash::Instance, wanted: Option<&str>) -> VkResult<DeviceParts> {
     // SAFETY: plain queries of a live instance.
-    let physical =
-        unsafe { instance.enumerate_physical_devices() }.call("vkEnumeratePhysicalDevices")?;
-    let candidates: Vec<(Candidate, Option<u32>)> =
-        physical.iter().map(|&pd| assess(instance, pd)).collect();
+    let physical = unsafe { instance.enumerate_physical_devices() }.call("vkEnumeratePhysicalDevices")?;
+    let candidates: Vec<(Candidate, Option<u32>)> = physical.iter().map(|&pd| assess(instance, pd)).collect();
     let list: Vec<Candidate> = candidates.iter().map(|(c, _)| c.clone()).collect();
     let Some(i) = selection::choose(&list, wanted) else {
-        return Err(VkError::NoDevice {
-            wanted: wanted.map(str::to_owned),
-            available: selection::describe(&list),
-        });
+        return Err(VkError::NoDevice { wanted: wanted.map(str::to_owned), available: selection::describe(&list) });
     };
     let pd = physical[i];
-    let family = candidates[i].1.ok_or_else(|| VkError::NoDevice {
-        wanted: None,
-        available: vec![],
-    })?;
+    let family = candidates[i].1.ok_or_else(|| VkError::NoDevice { wanted: None, available: vec![] })?;
     // SAFETY: plain queries of a live physical device.
     let (supported, exts) = unsafe {
         (
             instance.get_physical_device_features(pd),
-            instance
-                .enumerate_device_extension_properties(pd)
-                .call("vkEnumerateDeviceExtensionProperties")?,
+            instance.enumerate_device_extension_properties(pd).call("vkEnumerateDeviceExtensionProperties")?,
         )
     };
     let has_ext = |n: &CStr| exts.iter().any(|e| e.extension_name_as_c_str() == Ok(n));
@@ -518,9 +456,7 @@ fn pick_and_create_device(instance: &ash::Instance, wanted: Option<&str>) -> VkR
         ext_names.push(ash::khr::portability_subset::NAME.as_ptr());
     }
     let priorities = [1.0f32];
-    let queues = [vk::DeviceQueueCreateInfo::default()
-        .queue_family_index(family)
-        .queue_priorities(&priorities)];
+    let queues = [vk::DeviceQueueCreateInfo::default().queue_family_index(family).queue_priorities(&priorities)];
     // maintenance4 (core in 1.3, optional) relaxes vertex-output/fragment-input matching, so
     // one vertex shader serves fragment shaders that read fewer of its outputs.
     let mut supported13 = vk::PhysicalDeviceVulkan13Features::default();
@@ -554,20 +490,10 @@ fn assess(instance: &ash::Instance, pd: vk::PhysicalDevice) -> (Candidate, Optio
             let mut f2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut f13);
             instance.get_physical_device_features2(pd, &mut f2);
         }
-        (
-            props,
-            families,
-            (f13.dynamic_rendering, f13.synchronization2),
-        )
+        (props, families, (f13.dynamic_rendering, f13.synchronization2))
     };
-    let name = props
-        .device_name_as_c_str()
-        .map(|c| c.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let family = families
-        .iter()
-        .position(|f| f.queue_flags.contains(vk::QueueFlags::GRAPHICS))
-        .map(|i| i as u32);
+    let name = props.device_name_as_c_str().map(|c| c.to_string_lossy().into_owned()).unwrap_or_default();
+    let family = families.iter().position(|f| f.queue_flags.contains(vk::QueueFlags::GRAPHICS)).map(|i| i as u32);
     let unusable = if props.api_version < vk::API_VERSION_1_3 {
         Some("needs Vulkan 1.3".to_owned())
     } else if family.is_none() {
@@ -577,14 +503,7 @@ fn assess(instance: &ash::Instance, pd: vk::PhysicalDevice) -> (Candidate, Optio
     } else {
         None
     };
-    (
-        Candidate {
-            name,
-            device_type: props.device_type,
-            unusable,
-        },
-        family,
-    )
+    (Candidate { name, device_type: props.device_type, unusable }, family)
 }
 
 fn probe(
@@ -605,10 +524,7 @@ fn probe(
         let families = instance.get_physical_device_queue_family_properties(pd);
         let queue_family = families.get(family as usize).copied().unwrap_or_default();
         let supports = |f: vk::Format, feat: vk::FormatFeatureFlags| {
-            instance
-                .get_physical_device_format_properties(pd, f)
-                .optimal_tiling_features
-                .contains(feat)
+            instance.get_physical_device_format_properties(pd, f).optimal_tiling_features.contains(feat)
         };
         let depth_stencil_formats = DEPTH_STENCIL_PREFERENCE
             .into_iter()
@@ -616,8 +532,7 @@ fn probe(
             .collect();
         let depth32_sampled = supports(
             vk::Format::D32_SFLOAT,
-            vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT
-                | vk::FormatFeatureFlags::SAMPLED_IMAGE,
+            vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT | vk::FormatFeatureFlags::SAMPLED_IMAGE,
         );
         Capabilities::from_parts(Probe {
             properties: &properties,

@@ -41,23 +41,14 @@ impl DescriptorSetLayout {
         let raw = unsafe { ctx.inner.device.create_descriptor_set_layout(&info, None) }
             .call("vkCreateDescriptorSetLayout")?;
         ctx.set_name(raw, name);
-        Ok(Self {
-            raw,
-            bindings: bindings.to_vec(),
-            ctx: ctx.clone(),
-        })
+        Ok(Self { raw, bindings: bindings.to_vec(), ctx: ctx.clone() })
     }
 }
 
 impl Drop for DescriptorSetLayout {
     fn drop(&mut self) {
         // SAFETY: umbra waits for every submission, so the layout is no longer in use.
-        unsafe {
-            self.ctx
-                .inner
-                .device
-                .destroy_descriptor_set_layout(self.raw, None)
-        };
+        unsafe { self.ctx.inner.device.destroy_descriptor_set_layout(self.raw, None) };
     }
 }
 
@@ -87,35 +78,17 @@ pub struct DescriptorSet {
 
 impl DescriptorSet {
     /// Allocates a set of `layout` and writes `resources[i]` to the layout's `i`-th binding.
-    pub fn new(
-        ctx: &Context,
-        name: &str,
-        layout: &DescriptorSetLayout,
-        resources: &[Resource<'_>],
-    ) -> VkResult<Self> {
+    pub fn new(ctx: &Context, name: &str, layout: &DescriptorSetLayout, resources: &[Resource<'_>]) -> VkResult<Self> {
         let device = &ctx.inner.device;
-        let sizes: Vec<_> = layout
-            .bindings
-            .iter()
-            .map(|b| vk::DescriptorPoolSize {
-                ty: b.ty,
-                descriptor_count: 1,
-            })
-            .collect();
-        let info = vk::DescriptorPoolCreateInfo::default()
-            .max_sets(1)
-            .pool_sizes(&sizes);
+        let sizes: Vec<_> =
+            layout.bindings.iter().map(|b| vk::DescriptorPoolSize { ty: b.ty, descriptor_count: 1 }).collect();
+        let info = vk::DescriptorPoolCreateInfo::default().max_sets(1).pool_sizes(&sizes);
         // SAFETY: valid create info; destroyed in `Drop`.
-        let pool =
-            unsafe { device.create_descriptor_pool(&info, None) }.call("vkCreateDescriptorPool")?;
+        let pool = unsafe { device.create_descriptor_pool(&info, None) }.call("vkCreateDescriptorPool")?;
         let layouts = [layout.raw];
-        let alloc = vk::DescriptorSetAllocateInfo::default()
-            .descriptor_pool(pool)
-            .set_layouts(&layouts);
+        let alloc = vk::DescriptorSetAllocateInfo::default().descriptor_pool(pool).set_layouts(&layouts);
         // SAFETY: the pool was sized for exactly this layout.
-        let raw = match unsafe { device.allocate_descriptor_sets(&alloc) }
-            .call("vkAllocateDescriptorSets")
-        {
+        let raw = match unsafe { device.allocate_descriptor_sets(&alloc) }.call("vkAllocateDescriptorSets") {
             Ok(sets) => sets[0],
             Err(e) => {
                 // SAFETY: unused pool.
@@ -123,34 +96,20 @@ impl DescriptorSet {
                 return Err(e);
             }
         };
-        let set = Self {
-            raw,
-            pool,
-            ctx: ctx.clone(),
-        };
+        let set = Self { raw, pool, ctx: ctx.clone() };
         let buffer_infos: Vec<_> = resources
             .iter()
             .map(|r| match r {
-                Resource::Buffer(b) => [vk::DescriptorBufferInfo {
-                    buffer: b.raw,
-                    offset: 0,
-                    range: vk::WHOLE_SIZE,
-                }],
+                Resource::Buffer(b) => [vk::DescriptorBufferInfo { buffer: b.raw, offset: 0, range: vk::WHOLE_SIZE }],
                 _ => [vk::DescriptorBufferInfo::default()],
             })
             .collect();
         let image_infos: Vec<_> = resources
             .iter()
             .map(|r| match *r {
-                Resource::SampledImage {
-                    view,
-                    sampler,
-                    layout,
-                } => [vk::DescriptorImageInfo {
-                    sampler,
-                    image_view: view,
-                    image_layout: layout,
-                }],
+                Resource::SampledImage { view, sampler, layout } => {
+                    [vk::DescriptorImageInfo { sampler, image_view: view, image_layout: layout }]
+                }
                 _ => [vk::DescriptorImageInfo::default()],
             })
             .collect();
@@ -160,10 +119,7 @@ impl DescriptorSet {
             .zip(resources)
             .enumerate()
             .map(|(i, (b, r))| {
-                let w = vk::WriteDescriptorSet::default()
-                    .dst_set(raw)
-                    .dst_binding(b.binding)
-                    .descriptor_type(b.ty);
+                let w = vk::WriteDescriptorSet::default().dst_set(raw).dst_binding(b.binding).descriptor_type(b.ty);
                 match r {
                     Resource::Buffer(_) => w.buffer_info(&buffer_infos[i]),
                     Resource::SampledImage { .. } => w.image_info(&image_infos[i]),
@@ -182,11 +138,6 @@ impl DescriptorSet {
 impl Drop for DescriptorSet {
     fn drop(&mut self) {
         // SAFETY: umbra waits for every submission; destroying the pool frees the set.
-        unsafe {
-            self.ctx
-                .inner
-                .device
-                .destroy_descriptor_pool(self.pool, None)
-        };
+        unsafe { self.ctx.inner.device.destroy_descriptor_pool(self.pool, None) };
     }
 }

@@ -25,26 +25,12 @@ pub struct ImageDesc {
 impl ImageDesc {
     /// A single-layer 2D image.
     pub fn new_2d(format: vk::Format, width: u32, height: u32) -> Self {
-        Self {
-            width,
-            height,
-            layers: 1,
-            cube: false,
-            format,
-            usage: vk::ImageUsageFlags::empty(),
-        }
+        Self { width, height, layers: 1, cube: false, format, usage: vk::ImageUsageFlags::empty() }
     }
 
     /// A cube image: six square layers.
     pub fn new_cube(format: vk::Format, size: u32) -> Self {
-        Self {
-            width: size,
-            height: size,
-            layers: 6,
-            cube: true,
-            format,
-            usage: vk::ImageUsageFlags::empty(),
-        }
+        Self { width: size, height: size, layers: 6, cube: true, format, usage: vk::ImageUsageFlags::empty() }
     }
 
     /// Same description with `usage`.
@@ -62,12 +48,8 @@ impl ImageDesc {
 /// Aspects a format has.
 pub fn format_aspect(format: vk::Format) -> vk::ImageAspectFlags {
     match format {
-        vk::Format::D16_UNORM | vk::Format::D32_SFLOAT | vk::Format::X8_D24_UNORM_PACK32 => {
-            vk::ImageAspectFlags::DEPTH
-        }
-        vk::Format::D16_UNORM_S8_UINT
-        | vk::Format::D24_UNORM_S8_UINT
-        | vk::Format::D32_SFLOAT_S8_UINT => {
+        vk::Format::D16_UNORM | vk::Format::D32_SFLOAT | vk::Format::X8_D24_UNORM_PACK32 => vk::ImageAspectFlags::DEPTH,
+        vk::Format::D16_UNORM_S8_UINT | vk::Format::D24_UNORM_S8_UINT | vk::Format::D32_SFLOAT_S8_UINT => {
             vk::ImageAspectFlags::DEPTH | vk::ImageAspectFlags::STENCIL
         }
         vk::Format::S8_UINT => vk::ImageAspectFlags::STENCIL,
@@ -78,9 +60,7 @@ pub fn format_aspect(format: vk::Format) -> vk::ImageAspectFlags {
 /// Bytes per texel of the colour formats umbra reads back.
 pub fn texel_size(format: vk::Format) -> Option<u32> {
     match format {
-        vk::Format::R8G8B8A8_UNORM | vk::Format::R8G8B8A8_SRGB | vk::Format::B8G8R8A8_UNORM => {
-            Some(4)
-        }
+        vk::Format::R8G8B8A8_UNORM | vk::Format::R8G8B8A8_SRGB | vk::Format::B8G8R8A8_UNORM => Some(4),
         vk::Format::R32_SFLOAT | vk::Format::D32_SFLOAT | vk::Format::R32_UINT => Some(4),
         vk::Format::R16G16B16A16_SFLOAT => Some(8),
         vk::Format::R32G32B32A32_SFLOAT => Some(16),
@@ -126,18 +106,15 @@ impl ImageState {
         let depth_stages = S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS;
         match self {
             ImageState::Undefined => (S::NONE, A::NONE),
-            ImageState::ColorAttachment => (
-                S::COLOR_ATTACHMENT_OUTPUT,
-                A::COLOR_ATTACHMENT_READ | A::COLOR_ATTACHMENT_WRITE,
-            ),
-            ImageState::DepthStencilAttachment => (
-                depth_stages,
-                A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE,
-            ),
-            ImageState::DepthStencilReadOnly => (
-                depth_stages | S::FRAGMENT_SHADER,
-                A::DEPTH_STENCIL_ATTACHMENT_READ | A::SHADER_SAMPLED_READ,
-            ),
+            ImageState::ColorAttachment => {
+                (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_READ | A::COLOR_ATTACHMENT_WRITE)
+            }
+            ImageState::DepthStencilAttachment => {
+                (depth_stages, A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE)
+            }
+            ImageState::DepthStencilReadOnly => {
+                (depth_stages | S::FRAGMENT_SHADER, A::DEPTH_STENCIL_ATTACHMENT_READ | A::SHADER_SAMPLED_READ)
+            }
             ImageState::FragmentRead => (S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ),
             ImageState::TransferSrc => (S::COPY, A::TRANSFER_READ),
             ImageState::TransferDst => (S::COPY, A::TRANSFER_WRITE),
@@ -159,10 +136,7 @@ pub struct Image {
 
 impl std::fmt::Debug for Image {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Image")
-            .field("raw", &self.raw)
-            .field("desc", &self.desc)
-            .finish()
+        f.debug_struct("Image").field("raw", &self.raw).field("desc", &self.desc).finish()
     }
 }
 
@@ -170,26 +144,13 @@ impl Image {
     /// Creates a named device-local image and its default view, checking the device limits.
     pub fn new(ctx: &Context, name: &str, desc: ImageDesc) -> VkResult<Self> {
         let caps = ctx.capabilities();
-        let max = if desc.cube {
-            caps.max_image_dimension_cube
-        } else {
-            caps.max_image_dimension_2d
-        };
-        let invalid = |why: String| VkError::InvalidDesc {
-            what: "image",
-            why: format!("{name}: {why}"),
-        };
+        let max = if desc.cube { caps.max_image_dimension_cube } else { caps.max_image_dimension_2d };
+        let invalid = |why: String| VkError::InvalidDesc { what: "image", why: format!("{name}: {why}") };
         if desc.width == 0 || desc.height == 0 || desc.layers == 0 {
-            return Err(invalid(format!(
-                "zero extent {}x{}x{}",
-                desc.width, desc.height, desc.layers
-            )));
+            return Err(invalid(format!("zero extent {}x{}x{}", desc.width, desc.height, desc.layers)));
         }
         if desc.width > max || desc.height > max {
-            return Err(invalid(format!(
-                "{}x{} exceeds the device limit {max}",
-                desc.width, desc.height
-            )));
+            return Err(invalid(format!("{}x{} exceeds the device limit {max}", desc.width, desc.height)));
         }
         if desc.cube && (desc.width != desc.height || desc.layers % 6 != 0) {
             return Err(invalid(format!(
@@ -200,11 +161,7 @@ impl Image {
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
             .format(desc.format)
-            .extent(vk::Extent3D {
-                width: desc.width,
-                height: desc.height,
-                depth: 1,
-            })
+            .extent(vk::Extent3D { width: desc.width, height: desc.height, depth: 1 })
             .mip_levels(1)
             .array_layers(desc.layers)
             .samples(vk::SampleCountFlags::TYPE_1)
@@ -212,11 +169,7 @@ impl Image {
             .usage(desc.usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE)
             .initial_layout(vk::ImageLayout::UNDEFINED)
-            .flags(if desc.cube {
-                vk::ImageCreateFlags::CUBE_COMPATIBLE
-            } else {
-                vk::ImageCreateFlags::empty()
-            });
+            .flags(if desc.cube { vk::ImageCreateFlags::CUBE_COMPATIBLE } else { vk::ImageCreateFlags::empty() });
         let device = &ctx.inner.device;
         // SAFETY: valid create info (limits checked above); destroyed in `Drop`.
         let raw = unsafe { device.create_image(&info, None) }.call("vkCreateImage")?;
@@ -231,18 +184,11 @@ impl Image {
                 allocation_scheme: AllocationScheme::GpuAllocatorManaged,
             })?)
         });
-        let mut image = Image {
-            raw,
-            view: vk::ImageView::null(),
-            desc,
-            allocation: None,
-            ctx: ctx.clone(),
-        };
+        let mut image = Image { raw, view: vk::ImageView::null(), desc, allocation: None, ctx: ctx.clone() };
         image.allocation = Some(allocation?);
         if let Some(a) = &image.allocation {
             // SAFETY: memory and offset come from an allocation made for these requirements.
-            unsafe { device.bind_image_memory(raw, a.memory(), a.offset()) }
-                .call("vkBindImageMemory")?;
+            unsafe { device.bind_image_memory(raw, a.memory(), a.offset()) }.call("vkBindImageMemory")?;
         }
         let view_type = match (desc.cube, desc.layers) {
             (true, 6) => vk::ImageViewType::CUBE,
@@ -258,12 +204,7 @@ impl Image {
 
     /// Creates an extra view over `count` layers from `first` (e.g. one cube face to render to).
     /// The caller owns it and destroys it with [`Image::destroy_view`].
-    pub fn create_view(
-        &self,
-        view_type: vk::ImageViewType,
-        first: u32,
-        count: u32,
-    ) -> VkResult<vk::ImageView> {
+    pub fn create_view(&self, view_type: vk::ImageViewType, first: u32, count: u32) -> VkResult<vk::ImageView> {
         let info = vk::ImageViewCreateInfo::default()
             .image(self.raw)
             .view_type(view_type)
@@ -292,10 +233,7 @@ impl Image {
 
     /// Width and height as an extent.
     pub fn extent(&self) -> vk::Extent2D {
-        vk::Extent2D {
-            width: self.desc.width,
-            height: self.desc.height,
-        }
+        vk::Extent2D { width: self.desc.width, height: self.desc.height }
     }
 }
 

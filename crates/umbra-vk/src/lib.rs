@@ -47,8 +47,8 @@ pub use error::{VkError, VkResult};
 pub use image::{format_aspect, texel_size, Image, ImageDesc, ImageState};
 pub use memory::Memory;
 pub use pipeline::{
-    Blend, ColorTarget, DepthState, GraphicsPipeline, GraphicsPipelineDesc, PipelineLayout,
-    StencilFace, VertexAttribute,
+    Blend, ColorTarget, DepthState, GraphicsPipeline, GraphicsPipelineDesc, PipelineLayout, StencilFace,
+    VertexAttribute,
 };
 pub use query::{QueryKind, QueryPool};
 pub use sampler::{Sampler, SamplerDesc};

@@ -144,11 +144,7 @@ pub struct ColorTarget {
 impl ColorTarget {
     /// Overwrites all four channels.
     pub fn opaque(format: vk::Format) -> Self {
-        Self {
-            format,
-            blend: None,
-            write_mask: vk::ColorComponentFlags::RGBA,
-        }
+        Self { format, blend: None, write_mask: vk::ColorComponentFlags::RGBA }
     }
 }
 
@@ -218,53 +214,32 @@ pub struct PipelineLayout {
 
 impl PipelineLayout {
     /// Creates a layout with `sets` and `push_bytes` of push constants for vertex and fragment.
-    pub fn new(
-        ctx: &Context,
-        name: &str,
-        sets: &[&DescriptorSetLayout],
-        push_bytes: u32,
-    ) -> VkResult<Self> {
+    pub fn new(ctx: &Context, name: &str, sets: &[&DescriptorSetLayout], push_bytes: u32) -> VkResult<Self> {
         let max = ctx.capabilities().max_push_constants_size;
         if push_bytes > max || push_bytes % 4 != 0 {
             return Err(VkError::InvalidDesc {
                 what: "pipeline layout",
-                why: format!(
-                    "{name}: {push_bytes} push-constant bytes (multiple of 4, at most {max})"
-                ),
+                why: format!("{name}: {push_bytes} push-constant bytes (multiple of 4, at most {max})"),
             });
         }
         let push_stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-        let ranges = [vk::PushConstantRange {
-            stage_flags: push_stages,
-            offset: 0,
-            size: push_bytes,
-        }];
+        let ranges = [vk::PushConstantRange { stage_flags: push_stages, offset: 0, size: push_bytes }];
         let raw_sets: Vec<_> = sets.iter().map(|s| s.raw).collect();
         let mut info = vk::PipelineLayoutCreateInfo::default().set_layouts(&raw_sets);
         if push_bytes > 0 {
             info = info.push_constant_ranges(&ranges);
         }
         // SAFETY: valid create info; destroyed in `Drop`.
-        let raw = unsafe { ctx.inner.device.create_pipeline_layout(&info, None) }
-            .call("vkCreatePipelineLayout")?;
+        let raw = unsafe { ctx.inner.device.create_pipeline_layout(&info, None) }.call("vkCreatePipelineLayout")?;
         ctx.set_name(raw, name);
-        Ok(Self {
-            raw,
-            push_stages,
-            ctx: ctx.clone(),
-        })
+        Ok(Self { raw, push_stages, ctx: ctx.clone() })
     }
 }
 
 impl Drop for PipelineLayout {
     fn drop(&mut self) {
         // SAFETY: umbra waits for every submission, so the layout is no longer in use.
-        unsafe {
-            self.ctx
-                .inner
-                .device
-                .destroy_pipeline_layout(self.raw, None)
-        };
+        unsafe { self.ctx.inner.device.destroy_pipeline_layout(self.raw, None) };
     }
 }
 
@@ -277,11 +252,7 @@ pub struct GraphicsPipeline {
 
 impl GraphicsPipeline {
     /// Builds a pipeline; `Unsupported` when the description needs a feature the device lacks.
-    pub fn new(
-        ctx: &Context,
-        layout: &PipelineLayout,
-        desc: &GraphicsPipelineDesc<'_>,
-    ) -> VkResult<Self> {
+    pub fn new(ctx: &Context, layout: &PipelineLayout, desc: &GraphicsPipelineDesc<'_>) -> VkResult<Self> {
         let caps = ctx.capabilities();
         let d = &desc.depth;
         if d.bounds_test && !caps.depth_bounds {
@@ -291,10 +262,7 @@ impl GraphicsPipeline {
             return Err(ctx.unsupported(format!("{}: depth clamp (depthClamp)", desc.name)));
         }
         if desc.line_width != 1.0 && !caps.wide_lines {
-            return Err(ctx.unsupported(format!(
-                "{}: line width {} (wideLines)",
-                desc.name, desc.line_width
-            )));
+            return Err(ctx.unsupported(format!("{}: line width {} (wideLines)", desc.name, desc.line_width)));
         }
         let device = &ctx.inner.device;
         let vs = shader_module(ctx, desc.vertex)?;
@@ -310,20 +278,10 @@ impl GraphicsPipeline {
             .specialization
             .iter()
             .enumerate()
-            .map(|(i, &(id, _))| vk::SpecializationMapEntry {
-                constant_id: id,
-                offset: 4 * i as u32,
-                size: 4,
-            })
+            .map(|(i, &(id, _))| vk::SpecializationMapEntry { constant_id: id, offset: 4 * i as u32, size: 4 })
             .collect();
-        let spec_data: Vec<u8> = desc
-            .specialization
-            .iter()
-            .flat_map(|&(_, v)| v.to_ne_bytes())
-            .collect();
-        let spec = vk::SpecializationInfo::default()
-            .map_entries(&spec_entries)
-            .data(&spec_data);
+        let spec_data: Vec<u8> = desc.specialization.iter().flat_map(|&(_, v)| v.to_ne_bytes()).collect();
+        let spec = vk::SpecializationInfo::default().map_entries(&spec_entries).data(&spec_data);
         let mut stages = vec![vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::VERTEX)
             .module(vs)
@@ -355,15 +313,11 @@ impl GraphicsPipeline {
             .collect();
         let mut vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
         if desc.vertex_stride > 0 {
-            vertex_input = vertex_input
-                .vertex_binding_descriptions(&bindings)
-                .vertex_attribute_descriptions(&attributes);
+            vertex_input =
+                vertex_input.vertex_binding_descriptions(&bindings).vertex_attribute_descriptions(&attributes);
         }
-        let input_assembly =
-            vk::PipelineInputAssemblyStateCreateInfo::default().topology(desc.topology);
-        let viewport = vk::PipelineViewportStateCreateInfo::default()
-            .viewport_count(1)
-            .scissor_count(1);
+        let input_assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(desc.topology);
+        let viewport = vk::PipelineViewportStateCreateInfo::default().viewport_count(1).scissor_count(1);
         let raster = vk::PipelineRasterizationStateCreateInfo::default()
             .depth_clamp_enable(d.clamp)
             .polygon_mode(vk::PolygonMode::FILL)
@@ -371,11 +325,9 @@ impl GraphicsPipeline {
             .front_face(desc.front_face)
             .depth_bias_enable(d.bias)
             .line_width(desc.line_width);
-        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
-        let (front, back) = desc
-            .stencil
-            .unwrap_or((StencilFace::KEEP, StencilFace::KEEP));
+        let multisample =
+            vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let (front, back) = desc.stencil.unwrap_or((StencilFace::KEEP, StencilFace::KEEP));
         let depth_stencil = vk::PipelineDepthStencilStateCreateInfo::default()
             .depth_test_enable(d.test)
             .depth_write_enable(d.write)
@@ -403,8 +355,7 @@ impl GraphicsPipeline {
                 }
             })
             .collect();
-        let blend =
-            vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
+        let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
         let mut dynamic = vec![vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
         if d.bias {
             dynamic.push(vk::DynamicState::DEPTH_BIAS);
@@ -421,18 +372,12 @@ impl GraphicsPipeline {
         let has_depth = desc.depth_format != vk::Format::UNDEFINED;
         let mut rendering = vk::PipelineRenderingCreateInfo::default()
             .color_attachment_formats(&color_formats)
-            .depth_attachment_format(if has_depth {
+            .depth_attachment_format(if has_depth { desc.depth_format } else { vk::Format::UNDEFINED })
+            .stencil_attachment_format(if has_depth && aspect.contains(vk::ImageAspectFlags::STENCIL) {
                 desc.depth_format
             } else {
                 vk::Format::UNDEFINED
-            })
-            .stencil_attachment_format(
-                if has_depth && aspect.contains(vk::ImageAspectFlags::STENCIL) {
-                    desc.depth_format
-                } else {
-                    vk::Format::UNDEFINED
-                },
-            );
+            });
         let info = vk::GraphicsPipelineCreateInfo::default()
             .stages(&stages)
             .vertex_input_state(&vertex_input)
@@ -446,8 +391,7 @@ impl GraphicsPipeline {
             .layout(layout.raw)
             .push_next(&mut rendering);
         // SAFETY: every pointer in `info` outlives the call; features were checked above.
-        let result =
-            unsafe { device.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) };
+        let result = unsafe { device.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) };
         // SAFETY: modules are no longer needed once the pipeline exists (or failed).
         unsafe {
             device.destroy_shader_module(vs, None);
@@ -455,14 +399,9 @@ impl GraphicsPipeline {
                 device.destroy_shader_module(fs, None);
             }
         }
-        let raw = result
-            .map_err(|(_, e)| e)
-            .call("vkCreateGraphicsPipelines")?[0];
+        let raw = result.map_err(|(_, e)| e).call("vkCreateGraphicsPipelines")?[0];
         ctx.set_name(raw, desc.name);
-        Ok(Self {
-            raw,
-            ctx: ctx.clone(),
-        })
+        Ok(Self { raw, ctx: ctx.clone() })
     }
 }
 
@@ -475,10 +414,7 @@ impl Drop for GraphicsPipeline {
 
 fn shader_module(ctx: &Context, spirv: &[u32]) -> VkResult<vk::ShaderModule> {
     if spirv.first() != Some(&0x0723_0203) {
-        return Err(VkError::InvalidDesc {
-            what: "shader module",
-            why: "not SPIR-V (bad magic number)".into(),
-        });
+        return Err(VkError::InvalidDesc { what: "shader module", why: "not SPIR-V (bad magic number)".into() });
     }
     let info = vk::ShaderModuleCreateInfo::default().code(spirv);
     // SAFETY: SPIR-V words checked for the magic number; the module is destroyed by the caller.

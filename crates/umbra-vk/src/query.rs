@@ -31,16 +31,11 @@ impl QueryPool {
     pub fn new(ctx: &Context, name: &str, kind: QueryKind, count: u32) -> VkResult<Self> {
         let caps = ctx.capabilities();
         if count == 0 {
-            return Err(VkError::InvalidDesc {
-                what: "query pool",
-                why: format!("{name}: zero queries"),
-            });
+            return Err(VkError::InvalidDesc { what: "query pool", why: format!("{name}: zero queries") });
         }
         let mut info = vk::QueryPoolCreateInfo::default().query_count(count);
         info = match kind {
-            QueryKind::Timestamp if !caps.timestamps => {
-                return Err(ctx.unsupported("timestamp queries"))
-            }
+            QueryKind::Timestamp if !caps.timestamps => return Err(ctx.unsupported("timestamp queries")),
             QueryKind::FragmentInvocations if !caps.pipeline_statistics => {
                 return Err(ctx.unsupported("pipeline statistics queries (pipelineStatisticsQuery)"))
             }
@@ -51,15 +46,9 @@ impl QueryPool {
                 .pipeline_statistics(vk::QueryPipelineStatisticFlags::FRAGMENT_SHADER_INVOCATIONS),
         };
         // SAFETY: valid create info; features checked above; destroyed in `Drop`.
-        let raw =
-            unsafe { ctx.inner.device.create_query_pool(&info, None) }.call("vkCreateQueryPool")?;
+        let raw = unsafe { ctx.inner.device.create_query_pool(&info, None) }.call("vkCreateQueryPool")?;
         ctx.set_name(raw, name);
-        Ok(Self {
-            raw,
-            kind,
-            count,
-            ctx: ctx.clone(),
-        })
+        Ok(Self { raw, kind, count, ctx: ctx.clone() })
     }
 
     /// Every query's 64-bit result, waiting for them to be available.
@@ -81,11 +70,7 @@ impl QueryPool {
     /// Nanoseconds between two timestamps of this pool's results, honouring the valid bits.
     pub fn elapsed_ns(&self, results: &[u64], begin: usize, end: usize) -> f64 {
         let caps = self.ctx.capabilities();
-        let mask = if caps.timestamp_valid_bits >= 64 {
-            u64::MAX
-        } else {
-            (1u64 << caps.timestamp_valid_bits) - 1
-        };
+        let mask = if caps.timestamp_valid_bits >= 64 { u64::MAX } else { (1u64 << caps.timestamp_valid_bits) - 1 };
         let (Some(&b), Some(&e)) = (results.get(begin), results.get(end)) else {
             return 0.0;
         };

@@ -17,11 +17,8 @@ pub struct SamplerDesc {
 
 impl SamplerDesc {
     /// Nearest filtering, clamp to edge, no comparison.
-    pub const NEAREST_CLAMP: Self = Self {
-        filter: vk::Filter::NEAREST,
-        address: vk::SamplerAddressMode::CLAMP_TO_EDGE,
-        compare: None,
-    };
+    pub const NEAREST_CLAMP: Self =
+        Self { filter: vk::Filter::NEAREST, address: vk::SamplerAddressMode::CLAMP_TO_EDGE, compare: None };
 }
 
 /// A sampler; destroyed on drop.
@@ -46,13 +43,9 @@ impl Sampler {
             .max_lod(0.0)
             .border_color(vk::BorderColor::FLOAT_OPAQUE_WHITE);
         // SAFETY: valid create info; destroyed in `Drop`.
-        let raw =
-            unsafe { ctx.inner.device.create_sampler(&info, None) }.call("vkCreateSampler")?;
+        let raw = unsafe { ctx.inner.device.create_sampler(&info, None) }.call("vkCreateSampler")?;
         ctx.set_name(raw, name);
-        Ok(Self {
-            raw,
-            ctx: ctx.clone(),
-        })
+        Ok(Self { raw, ctx: ctx.clone() })
     }
 }
 

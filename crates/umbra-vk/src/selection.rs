@@ -37,11 +37,7 @@ pub fn choose(candidates: &[Candidate], wanted: Option<&str>) -> Option<usize> {
         .iter()
         .enumerate()
         .filter(|(_, c)| c.unusable.is_none())
-        .filter(|(_, c)| {
-            wanted
-                .as_ref()
-                .is_none_or(|w| c.name.to_lowercase().contains(w.as_str()))
-        })
+        .filter(|(_, c)| wanted.as_ref().is_none_or(|w| c.name.to_lowercase().contains(w.as_str())))
         .min_by_key(|(i, c)| (type_rank(c.device_type), *i))
         .map(|(i, _)| i)
 }
@@ -65,11 +61,7 @@ mod tests {
     use super::*;
 
     fn cand(name: &str, t: vk::PhysicalDeviceType, ok: bool) -> Candidate {
-        Candidate {
-            name: name.into(),
-            device_type: t,
-            unusable: (!ok).then(|| "no Vulkan 1.3".into()),
-        }
+        Candidate { name: name.into(), device_type: t, unusable: (!ok).then(|| "no Vulkan 1.3".into()) }
     }
 
     #[test]
@@ -90,11 +82,7 @@ mod tests {
     fn env_filter_is_a_case_insensitive_substring() {
         let c = [
             cand("NVIDIA H200", vk::PhysicalDeviceType::DISCRETE_GPU, true),
-            cand(
-                "SwiftShader Device (Subzero)",
-                vk::PhysicalDeviceType::CPU,
-                true,
-            ),
+            cand("SwiftShader Device (Subzero)", vk::PhysicalDeviceType::CPU, true),
             cand("llvmpipe (LLVM 15)", vk::PhysicalDeviceType::CPU, true),
         ];
         assert_eq!(choose(&c, Some("swiftshader")), Some(1));

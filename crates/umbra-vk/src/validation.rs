@@ -34,14 +34,9 @@ impl ValidationCounter {
 /// The messenger's create info, pointing its user data at `counter`.
 ///
 /// The counter must outlive the messenger (the context keeps an `Arc` of it).
-pub(crate) fn messenger_info(
-    counter: &ValidationCounter,
-) -> vk::DebugUtilsMessengerCreateInfoEXT<'static> {
+pub(crate) fn messenger_info(counter: &ValidationCounter) -> vk::DebugUtilsMessengerCreateInfoEXT<'static> {
     vk::DebugUtilsMessengerCreateInfoEXT::default()
-        .message_severity(
-            vk::DebugUtilsMessageSeverityFlagsEXT::WARNING
-                | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
-        )
+        .message_severity(vk::DebugUtilsMessageSeverityFlagsEXT::WARNING | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR)
         .message_type(
             vk::DebugUtilsMessageTypeFlagsEXT::GENERAL
                 | vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
@@ -68,10 +63,8 @@ unsafe extern "system" fn on_message(
     };
     // GENERAL messages come from the loader (e.g. about other ICDs on the system): logged, not
     // counted. VALIDATION and PERFORMANCE messages are what a test must keep at zero.
-    let counted = kind.intersects(
-        vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
-            | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
-    );
+    let counted =
+        kind.intersects(vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE);
     // SAFETY: `user` is the `ValidationCounter` the context keeps alive in an `Arc` for as long
     // as the messenger exists (see `messenger_info`).
     let counter = unsafe { (user as *const ValidationCounter).as_ref() };
@@ -80,6 +73,9 @@ unsafe extern "system" fn on_message(
         if let (true, Some(c)) = (counted, counter) {
             c.errors.fetch_add(1, Ordering::Relaxed);
         }
+    } else if !counted {
+        // Loader and driver notes (other ICDs on the system, Mesa's SPIR-V front end, …).
+        log::debug!(target: "umbra_vk::validation", "[{kind:?}] {message}");
     } else {
         log::warn!(target: "umbra_vk::validation", "[{kind:?}] {message}");
         if let (true, Some(c)) = (counted, counter) {
