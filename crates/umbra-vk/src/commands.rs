@@ -82,6 +82,7 @@ impl Context {
         unsafe { device.end_command_buffer(rec.cmd) }.call("vkEndCommandBuffer")?;
         // SAFETY: plain object creation; destroyed below.
         let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }.call("vkCreateFence")?;
+        self.set_name(fence, "submit fence");
         let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(rec.cmd)];
         let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmds)];
         let result = self.queue().and_then(|q| {

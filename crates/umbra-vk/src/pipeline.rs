@@ -265,8 +265,8 @@ impl GraphicsPipeline {
             return Err(ctx.unsupported(format!("{}: line width {} (wideLines)", desc.name, desc.line_width)));
         }
         let device = &ctx.inner.device;
-        let vs = shader_module(ctx, desc.vertex)?;
-        let fs = match desc.fragment.map(|f| shader_module(ctx, f)).transpose() {
+        let vs = shader_module(ctx, desc.vertex, &format!("{} vertex", desc.name))?;
+        let fs = match desc.fragment.map(|f| shader_module(ctx, f, &format!("{} fragment", desc.name))).transpose() {
             Ok(fs) => fs,
             Err(e) => {
                 // SAFETY: unused module.
@@ -412,11 +412,13 @@ impl Drop for GraphicsPipeline {
     }
 }
 
-fn shader_module(ctx: &Context, spirv: &[u32]) -> VkResult<vk::ShaderModule> {
+fn shader_module(ctx: &Context, spirv: &[u32], name: &str) -> VkResult<vk::ShaderModule> {
     if spirv.first() != Some(&0x0723_0203) {
         return Err(VkError::InvalidDesc { what: "shader module", why: "not SPIR-V (bad magic number)".into() });
     }
     let info = vk::ShaderModuleCreateInfo::default().code(spirv);
     // SAFETY: SPIR-V words checked for the magic number; the module is destroyed by the caller.
-    unsafe { ctx.inner.device.create_shader_module(&info, None) }.call("vkCreateShaderModule")
+    let module = unsafe { ctx.inner.device.create_shader_module(&info, None) }.call("vkCreateShaderModule")?;
+    ctx.set_name(module, name);
+    Ok(module)
 }
