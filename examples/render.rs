@@ -23,7 +23,7 @@ fn main() -> anyhow::Result<()> {
     let ctx = umbra::vk::Context::new()?;
     let scene = umbra::scene::load(&args.common.scene)?;
     let (width, height) = args.common.size;
-    let mut renderer = Renderer::new(&ctx, RendererDesc { width, height })?;
+    let mut renderer = Renderer::new(&ctx, RendererDesc::new(width, height))?;
     let frame = common::render_warm(&mut renderer, &scene, &args.common)?;
     common::write_outputs(&args.common, "render", &frame)
 }

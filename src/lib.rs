@@ -11,7 +11,7 @@
 //! ```no_run
 //! let ctx = umbra::vk::Context::new()?; // honours UMBRA_DEVICE and UMBRA_VALIDATION
 //! let scene = umbra::scene::load("cubes")?;
-//! let mut renderer = umbra::shadows::Renderer::new(&ctx, umbra::shadows::RendererDesc { width: 256, height: 192 })?;
+//! let mut renderer = umbra::shadows::Renderer::new(&ctx, umbra::shadows::RendererDesc::new(256, 192))?;
 //! let frame = renderer.render(&scene)?;
 //! frame.save_png("render.png".as_ref())?;
 //! println!("{}", frame.report.to_json());

@@ -115,11 +115,9 @@ fn umbra_renders_on_an_engine_owned_device_and_leaves_it_alive() {
         assert!(caps.depth_clamp, "the engine enabled depthClamp");
         assert!(!caps.depth_bounds, "the engine did not enable depthBounds: umbra must not use it");
         let scene = umbra::scene::load("ball").unwrap();
-        let mut renderer = umbra::shadows::Renderer::new(
-            &ctx,
-            umbra::shadows::RendererDesc { width: common::SIZE.0, height: common::SIZE.1 },
-        )
-        .unwrap();
+        let mut renderer =
+            umbra::shadows::Renderer::new(&ctx, umbra::shadows::RendererDesc::new(common::SIZE.0, common::SIZE.1))
+                .unwrap();
         let frame = renderer.render(&scene).unwrap();
         assert!(frame.rgba.chunks_exact(4).any(|p| p[2] > 100), "the blue ball is visible");
         println!("rendered on the engine's {} ({} passes)", caps.device_name, frame.report.passes.len());

@@ -77,7 +77,7 @@ fn oversized_and_empty_images_are_typed_errors() {
         assert!(matches!(umbra::vk::Image::new(ctx, "too big", too_big), Err(VkError::InvalidDesc { .. })));
         let empty = umbra::vk::ImageDesc::new_2d(vk::Format::R8G8B8A8_UNORM, 0, 4).usage(vk::ImageUsageFlags::SAMPLED);
         assert!(matches!(umbra::vk::Image::new(ctx, "empty", empty), Err(VkError::InvalidDesc { .. })));
-        let r = umbra::shadows::Renderer::new(ctx, umbra::shadows::RendererDesc { width: 0, height: 10 });
+        let r = umbra::shadows::Renderer::new(ctx, umbra::shadows::RendererDesc::new(0, 10));
         assert!(matches!(r, Err(umbra::shadows::RenderError::InvalidSize { .. })));
     });
 }

@@ -7,7 +7,7 @@ use umbra::shadows::{Renderer, RendererDesc};
 #[test]
 fn every_pass_has_a_positive_gpu_time_and_the_selected_device() {
     common::with_context(|ctx| {
-        let mut r = Renderer::new(ctx, RendererDesc { width: common::SIZE.0, height: common::SIZE.1 }).unwrap();
+        let mut r = Renderer::new(ctx, RendererDesc::new(common::SIZE.0, common::SIZE.1)).unwrap();
         let scene = umbra::scene::load("cubes").unwrap();
         let frame = r.render(&scene).unwrap();
         let report = &frame.report;

@@ -42,7 +42,7 @@ fn max_error(frame: &Frame, expected: Vec3) -> f32 {
 #[test]
 fn pixel_values_follow_lamberts_law_within_2_of_255() {
     common::with_context(|ctx| {
-        let mut r = Renderer::new(ctx, RendererDesc { width: common::SIZE.0, height: common::SIZE.1 }).unwrap();
+        let mut r = Renderer::new(ctx, RendererDesc::new(common::SIZE.0, common::SIZE.1)).unwrap();
         for degrees in [0.0f32, 30.0, 60.0, 75.0, 100.0] {
             let frame = render(&mut r, vec![light_at(degrees, 1.0, Vec3::ONE)]);
             let expected = Vec3::splat(ALBEDO * degrees.to_radians().cos().max(0.0));
@@ -64,7 +64,7 @@ fn pixel_values_follow_lamberts_law_within_2_of_255() {
 #[test]
 fn a_second_light_adds_exactly_its_own_contribution() {
     common::with_context(|ctx| {
-        let mut r = Renderer::new(ctx, RendererDesc { width: common::SIZE.0, height: common::SIZE.1 }).unwrap();
+        let mut r = Renderer::new(ctx, RendererDesc::new(common::SIZE.0, common::SIZE.1)).unwrap();
         let first = light_at(60.0, 1.0, Vec3::ONE);
         let second = light_at(-30.0, 0.5, Vec3::new(1.0, 0.5, 0.25));
         let one = render(&mut r, vec![first.clone()]);

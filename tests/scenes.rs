@@ -26,7 +26,7 @@ fn render_and_check(renderer: &mut Renderer, spec: &str, stem: &str) {
 #[test]
 fn every_procedural_scene_renders_validation_clean() {
     common::with_context(|ctx| {
-        let mut r = Renderer::new(ctx, RendererDesc { width: common::SIZE.0, height: common::SIZE.1 }).unwrap();
+        let mut r = Renderer::new(ctx, RendererDesc::new(common::SIZE.0, common::SIZE.1)).unwrap();
         for name in umbra::scene::procedural::NAMES {
             render_and_check(&mut r, name, name);
         }
@@ -37,7 +37,7 @@ fn every_procedural_scene_renders_validation_clean() {
 fn every_shared_asset_renders_validation_clean() {
     let dir = common::assets();
     common::with_context(|ctx| {
-        let mut r = Renderer::new(ctx, RendererDesc { width: common::SIZE.0, height: common::SIZE.1 }).unwrap();
+        let mut r = Renderer::new(ctx, RendererDesc::new(common::SIZE.0, common::SIZE.1)).unwrap();
         for file in ["spot.glb", "fandisk.glb", "teapot.glb", "stanford-bunny.glb", "suzanne.glb"] {
             let path = dir.join(file);
             render_and_check(&mut r, path.to_str().unwrap(), file.trim_end_matches(".glb"));
@@ -87,7 +87,7 @@ intensity = 3.0
     )
     .unwrap();
     common::with_context(|ctx| {
-        let mut r = Renderer::new(ctx, RendererDesc { width: common::SIZE.0, height: common::SIZE.1 }).unwrap();
+        let mut r = Renderer::new(ctx, RendererDesc::new(common::SIZE.0, common::SIZE.1)).unwrap();
         render_and_check(&mut r, file.to_str().unwrap(), "scene-file");
     });
 }

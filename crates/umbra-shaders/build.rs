@@ -9,11 +9,15 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+/// The GLSL folder, relative to this package.
+const SHADER_DIR: &str = "../../shaders-glsl";
+
 fn main() {
     let manifest = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
-    let root = manifest.join("../../shaders-glsl");
-    let root = root.canonicalize().unwrap_or_else(|e| fail(&format!("{}: {e}", root.display())));
-    println!("cargo:rerun-if-changed={}", root.display());
+    let root = manifest.join(SHADER_DIR);
+    // Paths relative to the package: cargo stores them relatively, so two checkouts sharing
+    // one CARGO_TARGET_DIR (a CI clone beside a work tree) each watch their own shaders.
+    println!("cargo:rerun-if-changed={SHADER_DIR}");
     let mut files = Vec::new();
     collect(&root, &mut files);
     files.sort();
@@ -21,9 +25,9 @@ fn main() {
     let compiler = shaderc::Compiler::new().unwrap_or_else(|| fail("cannot create the shaderc compiler"));
     let mut modules: BTreeMap<String, Vec<Compiled>> = BTreeMap::new();
     for path in &files {
-        println!("cargo:rerun-if-changed={}", path.display());
-        let Some(kind) = stage(path) else { continue };
         let rel = path.strip_prefix(&root).unwrap_or(path).to_string_lossy().replace('\\', "/");
+        println!("cargo:rerun-if-changed={SHADER_DIR}/{rel}");
+        let Some(kind) = stage(path) else { continue };
         let source = std::fs::read_to_string(path).unwrap_or_else(|e| fail(&format!("{rel}: {e}")));
         let options = options(&root);
         let artifact = compiler
@@ -80,8 +84,8 @@ fn options(root: &Path) -> shaderc::CompileOptions<'static> {
         let found =
             candidates.iter().find(|p| p.is_file()).ok_or_else(|| format!("cannot find include {requested:?}"))?;
         let content = std::fs::read_to_string(found).map_err(|e| format!("{}: {e}", found.display()))?;
-        println!("cargo:rerun-if-changed={}", found.display());
         let name = found.strip_prefix(&root).unwrap_or(found).to_string_lossy().into_owned();
+        println!("cargo:rerun-if-changed={SHADER_DIR}/{name}");
         Ok(shaderc::ResolvedInclude { resolved_name: name, content })
     });
     o

@@ -1,4 +1,5 @@
-// Scene data shared by every pass: set 0 holds the frame (camera), the objects and the lights.
+// Scene data shared by every pass: set 0 holds the frame (camera), the objects, the lights and
+// the light-space view-projections of the shadow maps.
 // Layouts mirror `umbra_shadows::gpu_scene` (std140 / std430); change both together.
 #ifndef UMBRA_SCENE_GLSL
 #define UMBRA_SCENE_GLSL
@@ -6,7 +7,7 @@
 struct Object {
     mat4 model;
     mat4 normal_matrix; // inverse-transpose of `model` (upper 3x3 used)
-    vec4 albedo;        // rgb, a unused
+    vec4 albedo;        // rgb; a = 1 if the object receives shadows, 0 if not
 };
 
 // A light as a homogeneous position: w = 0 directional (xyz points towards the light),
@@ -15,8 +16,16 @@ struct Light {
     vec4 position;
     vec4 radiance;       // rgb = colour * intensity
     vec4 spot_direction; // xyz = axis the spot shines along, w = cos(outer angle)
-    vec4 spot_params;    // x = cos(inner angle), y = 1 for a spot light
+    vec4 spot_params;    // x = cos(inner angle), y = 1 for a spot light,
+                         // z = shadow kind (SHADOW_NONE, SHADOW_2D, SHADOW_CUBE),
+                         // w = index of its first view in `shadow_views`
+    vec4 shadow_params;  // x = normal offset (world units), y = shadow-map texel size (1/res),
+                         // z = near, w = far of the cube map's faces
 };
+
+const uint SHADOW_NONE = 0u;
+const uint SHADOW_2D = 1u;
+const uint SHADOW_CUBE = 2u;
 
 layout(set = 0, binding = 0, std140) uniform Frame {
     mat4 view_proj;
@@ -32,9 +41,14 @@ layout(set = 0, binding = 2, std430) readonly buffer Lights {
     Light lights[];
 };
 
+layout(set = 0, binding = 3, std430) readonly buffer ShadowViews {
+    mat4 shadow_views[];
+};
+
+// `view` indexes the lights (forward passes) or `shadow_views` (shadow-map passes).
 layout(push_constant) uniform Push {
     uint object;
-    uint light;
+    uint view;
 } push;
 
 #endif

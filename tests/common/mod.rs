@@ -2,6 +2,8 @@
 //! check that the validation layer stayed silent.
 #![allow(dead_code)]
 
+pub mod raycast;
+
 use std::path::PathBuf;
 use umbra::vk::{Context, ContextOptions};
 

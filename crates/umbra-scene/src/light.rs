@@ -74,6 +74,9 @@ pub struct Light {
     pub intensity: f32,
     /// The shadow technique wanted for this light.
     pub technique: Technique,
+    /// Shadow-map resolution for this light (texels per side), overriding the renderer's
+    /// default.
+    pub shadow_map_size: Option<u32>,
 }
 
 impl Light {
@@ -96,7 +99,15 @@ impl Light {
     }
 
     fn at(position: Vec4, intensity: f32) -> Self {
-        Self { name: String::new(), position, spot: None, color: Vec3::ONE, intensity, technique: Technique::default() }
+        Self {
+            name: String::new(),
+            position,
+            spot: None,
+            color: Vec3::ONE,
+            intensity,
+            technique: Technique::default(),
+            shadow_map_size: None,
+        }
     }
 
     /// The kind, from w and the cone.

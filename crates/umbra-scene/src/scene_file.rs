@@ -31,7 +31,8 @@
 //! kind = "point"         # directional | point | spot
 //! position = [2.0, 6.0, 1.0]
 //! intensity = 40.0
-//! technique = "unshadowed"
+//! technique = "shadow_map"   # unshadowed | shadow_map | …
+//! shadow_map_size = 2048      # optional, overrides the renderer's default
 //! ```
 
 use crate::error::{SceneError, SceneResult};
@@ -113,6 +114,7 @@ struct LightEntry {
     color: Option<Vec3>,
     intensity: Option<f32>,
     technique: Option<Technique>,
+    shadow_map_size: Option<u32>,
 }
 
 /// Loads a TOML scene file; mesh `path`s are relative to the file's folder.
@@ -206,6 +208,7 @@ fn build_light(l: LightEntry) -> Result<Light, String> {
     };
     light.color = l.color.unwrap_or(Vec3::ONE);
     light.technique = l.technique.unwrap_or_default();
+    light.shadow_map_size = l.shadow_map_size;
     light.name = l.name.unwrap_or_default();
     Ok(light)
 }

@@ -12,12 +12,22 @@ pub enum RenderError {
     #[error(transparent)]
     Scene(#[from] umbra_scene::SceneError),
     /// A light asks for a technique this version of umbra does not provide yet.
-    #[error("light {light} asks for {technique:?}, which this build of umbra does not implement yet (available: unshadowed)")]
+    #[error("light {light} asks for {technique:?}, which this build of umbra does not implement yet (available: {available})", available = crate::plan::AVAILABLE_TECHNIQUES.iter().map(|t| t.name()).collect::<Vec<_>>().join(", "))]
     TechniqueUnavailable {
         /// Index of the light.
         light: usize,
         /// The technique it asked for.
         technique: Technique,
+    },
+    /// A shadow map's resolution is outside 64..=the device limit.
+    #[error("shadow map of light {light}: resolution {resolution}: {why}")]
+    InvalidShadowMap {
+        /// Index of the light.
+        light: usize,
+        /// Resolution asked for.
+        resolution: u32,
+        /// The accepted range and the limit it comes from.
+        why: String,
     },
     /// The target size is unusable.
     #[error("invalid target size {width}x{height}: {why}")]

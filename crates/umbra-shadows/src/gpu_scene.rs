@@ -51,6 +51,23 @@ struct GpuLight {
     radiance: [f32; 4],
     spot_direction: [f32; 4],
     spot_params: [f32; 4],
+    shadow_params: [f32; 4],
+}
+
+/// What the lighting pass needs to know of a light's shadow map this frame.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct GpuShadow {
+    /// `SHADOW_NONE` (0), `SHADOW_2D` (1) or `SHADOW_CUBE` (2).
+    pub kind: u32,
+    /// Index of the light's first view in the shadow-view buffer.
+    pub first_view: u32,
+    /// World-space normal offset of the lookup point.
+    pub normal_offset: f32,
+    /// 1 / resolution.
+    pub texel: f32,
+    /// Cube faces' near and far distances.
+    pub near: f32,
+    pub far: f32,
 }
 
 /// Push constants of the forward passes.
@@ -59,8 +76,8 @@ struct GpuLight {
 pub(crate) struct DrawPush {
     /// Index into the object buffer.
     pub object: u32,
-    /// Index into the light buffer.
-    pub light: u32,
+    /// Index into the light buffer (forward passes) or the shadow-view buffer (shadow passes).
+    pub view: u32,
 }
 
 /// Where one mesh's indices and vertices sit in the shared buffers.
@@ -77,7 +94,7 @@ pub(crate) struct GpuScene {
     pub indices: Buffer,
     pub meshes: Vec<MeshRange>,
     /// Held for the descriptor set's lifetime.
-    _buffers: [Buffer; 3],
+    _buffers: [Buffer; 4],
     pub set: DescriptorSet,
 }
 
@@ -91,13 +108,22 @@ pub(crate) fn scene_set_layout(ctx: &Context) -> RenderResult<DescriptorSetLayou
             Binding { binding: 0, ty: vk::DescriptorType::UNIFORM_BUFFER, stages },
             Binding { binding: 1, ty: vk::DescriptorType::STORAGE_BUFFER, stages },
             Binding { binding: 2, ty: vk::DescriptorType::STORAGE_BUFFER, stages },
+            Binding { binding: 3, ty: vk::DescriptorType::STORAGE_BUFFER, stages },
         ],
     )?)
 }
 
 impl GpuScene {
-    /// Uploads `scene` as seen with `aspect` (width / height).
-    pub fn upload(ctx: &Context, layout: &DescriptorSetLayout, scene: &Scene, aspect: f32) -> RenderResult<Self> {
+    /// Uploads `scene` as seen with `aspect` (width / height), with each light's shadow-map
+    /// parameters (`shadows[i]` for light `i`) and every shadow view-projection.
+    pub fn upload(
+        ctx: &Context,
+        layout: &DescriptorSetLayout,
+        scene: &Scene,
+        aspect: f32,
+        shadows: &[GpuShadow],
+        shadow_views: &[Mat4],
+    ) -> RenderResult<Self> {
         scene.validate()?;
         let (vertices, indices, meshes) = pack_meshes(&scene.meshes);
         let usage = vk::BufferUsageFlags::VERTEX_BUFFER;
@@ -121,13 +147,15 @@ impl GpuScene {
             .map(|o| GpuObject {
                 model: o.transform.to_cols_array(),
                 normal_matrix: normal_matrix(o.transform).to_cols_array(),
-                albedo: o.albedo.extend(1.0).to_array(),
+                albedo: o.albedo.extend(if o.receives_shadows { 1.0 } else { 0.0 }).to_array(),
             })
             .collect();
         let lights: Vec<GpuLight> = scene
             .lights
             .iter()
-            .map(|l| {
+            .enumerate()
+            .map(|(i, l)| {
+                let sh = shadows.get(i).copied().unwrap_or_default();
                 let spot =
                     l.spot.unwrap_or(umbra_scene::Spot { direction: -Vec3::Y, inner_deg: 180.0, outer_deg: 180.0 });
                 GpuLight {
@@ -137,9 +165,10 @@ impl GpuScene {
                     spot_params: [
                         spot.inner_deg.to_radians().cos(),
                         if l.spot.is_some() { 1.0 } else { 0.0 },
-                        0.0,
-                        0.0,
+                        sh.kind as f32,
+                        sh.first_view as f32,
                     ],
+                    shadow_params: [sh.normal_offset, sh.texel, sh.near, sh.far],
                 }
             })
             .collect();
@@ -148,13 +177,20 @@ impl GpuScene {
         let ssbo = vk::BufferUsageFlags::STORAGE_BUFFER;
         let objects = Buffer::with_data(ctx, "objects", ssbo, nonempty(bytemuck::cast_slice(&objects)))?;
         let lights = Buffer::with_data(ctx, "lights", ssbo, nonempty(bytemuck::cast_slice(&lights)))?;
+        let views: Vec<[f32; 16]> = shadow_views.iter().map(Mat4::to_cols_array).collect();
+        let views = Buffer::with_data(ctx, "shadow views", ssbo, nonempty(bytemuck::cast_slice(&views)))?;
         let set = DescriptorSet::new(
             ctx,
             "scene set",
             layout,
-            &[Resource::Buffer(&frame), Resource::Buffer(&objects), Resource::Buffer(&lights)],
+            &[
+                Resource::Buffer(&frame),
+                Resource::Buffer(&objects),
+                Resource::Buffer(&lights),
+                Resource::Buffer(&views),
+            ],
         )?;
-        Ok(Self { vertices, indices, meshes, _buffers: [frame, objects, lights], set })
+        Ok(Self { vertices, indices, meshes, _buffers: [frame, objects, lights, views], set })
     }
 }
 

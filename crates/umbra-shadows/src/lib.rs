@@ -16,10 +16,12 @@ mod gpu_scene;
 pub mod plan;
 mod renderer;
 mod report;
+pub mod shadow_map;
 mod timing;
 
 pub use error::{RenderError, RenderResult};
-pub use plan::LightPlan;
+pub use plan::{LightPlan, ShadowMapReport};
 pub use renderer::{Frame, Renderer, RendererDesc, COLOR_FORMAT};
 pub use report::{FrameReport, SceneSummary};
+pub use shadow_map::{DepthBias, ShadowFilter, ShadowMapSettings};
 pub use timing::PassReport;

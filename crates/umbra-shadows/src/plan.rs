@@ -24,10 +24,29 @@ pub struct LightPlan {
     pub recorded: bool,
     /// Why not, when `recorded` is false.
     pub skipped_because: Option<String>,
+    /// The shadow map rendered for it this frame, if any.
+    pub shadow_map: Option<ShadowMapReport>,
+    /// What the renderer decided beyond the plan (e.g. a shadow map not needed this frame).
+    pub note: Option<String>,
+}
+
+/// A light's shadow map as rendered in one frame.
+#[derive(Clone, Debug, Serialize)]
+pub struct ShadowMapReport {
+    /// Texels per side (per face for cube maps).
+    pub resolution: u32,
+    /// Whether it is a cube map (six faces).
+    pub cube: bool,
+    /// Near distance of its frustum.
+    pub near: f32,
+    /// Far distance of its frustum.
+    pub far: f32,
+    /// Objects drawn into it.
+    pub casters: usize,
 }
 
 /// Techniques this build records (the others return [`RenderError::TechniqueUnavailable`]).
-pub const AVAILABLE_TECHNIQUES: &[Technique] = &[Technique::Unshadowed];
+pub const AVAILABLE_TECHNIQUES: &[Technique] = &[Technique::Unshadowed, Technique::ShadowMap];
 
 /// Decides, per light, what to record.
 pub fn plan_lights(scene: &Scene) -> RenderResult<Vec<LightPlan>> {
@@ -53,6 +72,8 @@ pub fn plan_lights(scene: &Scene) -> RenderResult<Vec<LightPlan>> {
                 technique: l.technique,
                 recorded: skip.is_none(),
                 skipped_because: skip.map(str::to_owned),
+                shadow_map: None,
+                note: None,
             })
         })
         .collect()

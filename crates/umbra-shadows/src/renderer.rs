@@ -1,37 +1,52 @@
 //! The renderer: records a frame's passes into a headless target and reads the colour back.
 //!
 //! A frame, top to bottom:
-//! 1. plan: per light, decide what to record (`plan::plan_lights`);
-//! 2. upload: the scene's meshes, objects, lights and camera (`gpu_scene`);
+//! 1. plan: per light, decide what to record (`plan::plan_lights`), and fit the shadow-map
+//!    views of the lights that use shadow maps (`shadow_map::frustum`);
+//! 2. upload: the scene's meshes, objects, lights, shadow views and camera (`gpu_scene`);
 //! 3. `ambient`: depth plus ambient term for every object;
-//! 4. `light N (kind)`: per planned light, its technique's passes then its additive lighting;
+//! 4. per planned light: `shadow_map N` (its technique's passes, when it has any), then
+//!    `light N (kind)`, its additive lighting with the shadow test;
 //! 5. `readback`: copy the colour target into a host-visible buffer.
 //!
 //! Every pass is a debug label with timestamps around it; the [`FrameReport`] lists them.
 
 use crate::forward::Forward;
-use crate::gpu_scene::GpuScene;
-use crate::plan::plan_lights;
+use crate::gpu_scene::{self, GpuScene, GpuShadow};
+use crate::plan::{plan_lights, ShadowMapReport};
 use crate::report::{FrameReport, SceneSummary};
+use crate::shadow_map::frustum::{self, LightViews, MapKind};
+use crate::shadow_map::pass::{self, ShadowMapPass};
+use crate::shadow_map::ShadowMapSettings;
 use crate::timing::{PassLog, PassTimer};
 use crate::{RenderError, RenderResult};
 use std::path::Path;
 use std::time::Instant;
-use umbra_scene::Scene;
+use umbra_scene::{Scene, Technique};
 use umbra_vk::{
-    vk, Buffer, BufferDesc, ColorAttachment, Context, DepthAttachment, Image, ImageDesc, ImageState, RenderTargets,
+    vk, Buffer, BufferDesc, ColorAttachment, Context, DepthAttachment, DescriptorSetLayout, Image, ImageDesc,
+    ImageState, PipelineLayout, RenderTargets,
 };
 
 /// The colour target format: linear 8-bit RGBA (values are written as computed, no sRGB curve).
 pub const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
 
-/// What a renderer renders into.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// What a renderer renders into, and how its techniques are set up.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RendererDesc {
     /// Width in pixels.
     pub width: u32,
     /// Height in pixels.
     pub height: u32,
+    /// Shadow-map settings for lights whose technique is `shadow_map`.
+    pub shadow_map: ShadowMapSettings,
+}
+
+impl RendererDesc {
+    /// A `width` × `height` target with default technique settings.
+    pub fn new(width: u32, height: u32) -> Self {
+        Self { width, height, shadow_map: ShadowMapSettings::DEFAULT }
+    }
 }
 
 /// A rendered frame: RGBA8 pixels (row 0 at the top) and its report.
@@ -76,7 +91,11 @@ pub struct Renderer {
     color: Image,
     depth: Image,
     readback: Buffer,
+    scene_set_layout: DescriptorSetLayout,
+    shadow_set_layout: DescriptorSetLayout,
+    layout: PipelineLayout,
     forward: Forward,
+    shadow_map: ShadowMapPass,
 }
 
 impl Renderer {
@@ -109,8 +128,24 @@ impl Renderer {
         )?;
         let readback =
             Buffer::new(ctx, "colour readback", BufferDesc::readback(4 * desc.width as u64 * desc.height as u64))?;
-        let forward = Forward::new(ctx, COLOR_FORMAT, depth_format)?;
-        Ok(Self { ctx: ctx.clone(), desc, color, depth, readback, forward })
+        let scene_set_layout = gpu_scene::scene_set_layout(ctx)?;
+        let shadow_set_layout = pass::shadow_set_layout(ctx)?;
+        let push = std::mem::size_of::<gpu_scene::DrawPush>() as u32;
+        let layout = PipelineLayout::new(ctx, "scene layout", &[&scene_set_layout, &shadow_set_layout], push)?;
+        let forward = Forward::new(ctx, &layout, COLOR_FORMAT, depth_format, &desc.shadow_map)?;
+        let shadow_map = ShadowMapPass::new(ctx, &layout, desc.shadow_map)?;
+        Ok(Self {
+            ctx: ctx.clone(),
+            desc,
+            color,
+            depth,
+            readback,
+            scene_set_layout,
+            shadow_set_layout,
+            layout,
+            forward,
+            shadow_map,
+        })
     }
 
     /// The target size.
@@ -121,15 +156,56 @@ impl Renderer {
     /// Renders one frame of `scene` and reads it back.
     pub fn render(&mut self, scene: &Scene) -> RenderResult<Frame> {
         let started = Instant::now();
-        let lights = plan_lights(scene)?;
+        let mut lights = plan_lights(scene)?;
         let aspect = self.desc.width as f32 / self.desc.height as f32;
-        let gpu = GpuScene::upload(&self.ctx, &self.forward.set_layout, scene, aspect)?;
+        let camera = scene.camera.view_proj(aspect);
+
+        // Shadow maps: fit each light's views, size its map, and note what the GPU reads.
+        let settings = *self.shadow_map.settings();
+        let mut shadows = vec![GpuShadow::default(); scene.lights.len()];
+        let mut shadow_views = Vec::new();
+        let mut fitted: Vec<Option<LightViews>> = vec![None; scene.lights.len()];
+        for plan in lights.iter_mut().filter(|l| l.recorded && l.technique == Technique::ShadowMap) {
+            let light = &scene.lights[plan.light];
+            let Some(views) = frustum::fit(light, scene, camera) else {
+                plan.note = Some("no caster can shadow a visible receiver: no shadow map rendered".into());
+                continue;
+            };
+            let resolution = light.shadow_map_size.unwrap_or(settings.resolution);
+            self.shadow_map.prepare(&self.ctx, plan.light, resolution, views.kind)?;
+            shadows[plan.light] = GpuShadow {
+                kind: if views.kind == MapKind::Cube { 2 } else { 1 },
+                first_view: shadow_views.len() as u32,
+                normal_offset: settings.normal_offset,
+                texel: 1.0 / resolution as f32,
+                near: views.near,
+                far: views.far,
+            };
+            plan.shadow_map = Some(ShadowMapReport {
+                resolution,
+                cube: views.kind == MapKind::Cube,
+                near: views.near,
+                far: views.far,
+                casters: views.casters.len(),
+            });
+            shadow_views.extend_from_slice(&views.views);
+            fitted[plan.light] = Some(views);
+        }
+        let gpu = GpuScene::upload(&self.ctx, &self.scene_set_layout, scene, aspect, &shadows, &shadow_views)?;
+        let shadow_sets = lights
+            .iter()
+            .filter(|l| l.recorded)
+            .map(|l| {
+                let has_map = fitted[l.light].is_some().then_some(l.light);
+                self.shadow_map.descriptor_set(&self.ctx, &self.shadow_set_layout, has_map)
+            })
+            .collect::<RenderResult<Vec<_>>>()?;
         // Poison the readback so a copy that never happened cannot pass for a frame.
         let poison = vec![0xCD; self.readback.desc.size as usize];
         self.readback.write(0, &poison)?;
 
         let planned = lights.iter().filter(|l| l.recorded).count();
-        let timer = PassTimer::new(&self.ctx, 2 + planned)?;
+        let timer = PassTimer::new(&self.ctx, 2 + planned + fitted.iter().flatten().count())?;
         let mut log = PassLog::default();
         let mut rec = self.ctx.begin_commands("frame")?;
         timer.reset(&mut rec);
@@ -145,12 +221,18 @@ impl Renderer {
             color: &clear_color,
             depth: Some(DepthAttachment { image: &self.depth, view: None, clear: Some((1.0, 0)), read_only: false }),
         });
-        self.forward.record_ambient(&mut rec, &gpu, scene, &mut log);
+        self.forward.record_ambient(&mut rec, &self.layout, &gpu, scene, &mut log);
         rec.end_rendering();
         timer.end(&mut rec, &log);
 
         let load_color = [ColorAttachment { image: &self.color, clear: None }];
-        for plan in lights.iter().filter(|l| l.recorded) {
+        for (plan, shadow_set) in lights.iter().filter(|l| l.recorded).zip(&shadow_sets) {
+            if let Some(views) = &fitted[plan.light] {
+                timer.begin(&mut rec, &mut log, format!("shadow_map {}", plan.light), Some(plan.light));
+                let first_view = shadows[plan.light].first_view;
+                self.shadow_map.record(&mut rec, &self.layout, &gpu, scene, plan.light, views, first_view, &mut log)?;
+                timer.end(&mut rec, &log);
+            }
             timer.begin(
                 &mut rec,
                 &mut log,
@@ -161,7 +243,7 @@ impl Renderer {
                 color: &load_color,
                 depth: Some(DepthAttachment { image: &self.depth, view: None, clear: None, read_only: false }),
             });
-            self.forward.record_light(&mut rec, &gpu, scene, plan.light as u32, &mut log);
+            self.forward.record_light(&mut rec, &self.layout, &gpu, shadow_set, scene, plan.light as u32, &mut log);
             rec.end_rendering();
             timer.end(&mut rec, &log);
         }
@@ -183,6 +265,7 @@ impl Renderer {
             scene: SceneSummary::of(scene),
             width: self.desc.width,
             height: self.desc.height,
+            shadow_map_settings: settings,
             lights,
             passes,
             total_gpu_ms,

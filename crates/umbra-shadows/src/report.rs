@@ -1,6 +1,7 @@
 //! The frame report: what a frame did, on which device, and what it cost on the GPU.
 
 use crate::plan::LightPlan;
+use crate::shadow_map::ShadowMapSettings;
 use crate::timing::PassReport;
 use serde::Serialize;
 use umbra_scene::Scene;
@@ -49,6 +50,8 @@ pub struct FrameReport {
     pub width: u32,
     /// Target height in pixels.
     pub height: u32,
+    /// Shadow-map settings the renderer was built with.
+    pub shadow_map_settings: ShadowMapSettings,
     /// Per light: technique and whether its passes were recorded (and why not).
     pub lights: Vec<LightPlan>,
     /// Every recorded pass, in order, with its GPU time.

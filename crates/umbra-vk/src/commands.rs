@@ -6,7 +6,9 @@
 
 use crate::error::{CallContext, VkResult};
 use crate::image::format_aspect;
-use crate::{Buffer, Context, DescriptorSet, GraphicsPipeline, Image, ImageState, PipelineLayout, QueryPool};
+use crate::{
+    Buffer, Context, DescriptorSet, GraphicsPipeline, Image, ImageState, ImageView, PipelineLayout, QueryPool,
+};
 use ash::vk;
 use std::ffi::CString;
 use std::marker::PhantomData;
@@ -28,19 +30,20 @@ pub struct ColorAttachment<'a> {
 pub struct DepthAttachment<'a> {
     /// The image (its default view unless `view` is set).
     pub image: &'a Image,
-    /// A view of one layer (a cube face), made with [`Image::create_view`]; `None`: default view.
-    pub view: Option<vk::ImageView>,
+    /// A view of one layer (a cube face), made with [`Image::layer_view`]; `None`: default view.
+    pub view: Option<&'a ImageView>,
     /// Clear depth and stencil at the start, or keep them (`None`).
     pub clear: Option<(f32, u32)>,
     /// Tested but never written: the image is in [`ImageState::DepthStencilReadOnly`].
     pub read_only: bool,
 }
 
-/// The attachments of one dynamic-rendering pass.
+/// The attachments of one dynamic-rendering pass. The slice only needs to live for the
+/// `begin_rendering` call (`'s`); the images are borrowed for the recording (`'a`).
 #[derive(Clone, Copy, Debug, Default)]
-pub struct RenderTargets<'a> {
+pub struct RenderTargets<'s, 'a> {
     /// Colour attachments, in location order.
-    pub color: &'a [ColorAttachment<'a>],
+    pub color: &'s [ColorAttachment<'a>],
     /// Depth/stencil attachment.
     pub depth: Option<DepthAttachment<'a>>,
 }
@@ -189,7 +192,7 @@ impl<'a> Recorder<'a> {
     }
 
     /// Begins dynamic rendering over the full extent of the first attachment.
-    pub fn begin_rendering(&mut self, targets: &RenderTargets<'a>) {
+    pub fn begin_rendering(&mut self, targets: &RenderTargets<'_, 'a>) {
         let extent = targets
             .color
             .first()
@@ -216,7 +219,7 @@ impl<'a> Recorder<'a> {
             };
             let (depth, stencil) = d.clear.unwrap_or((1.0, 0));
             vk::RenderingAttachmentInfo::default()
-                .image_view(d.view.unwrap_or(d.image.view))
+                .image_view(d.view.map_or(d.image.view, |v| v.raw))
                 .image_layout(layout)
                 .load_op(if d.clear.is_some() { vk::AttachmentLoadOp::CLEAR } else { vk::AttachmentLoadOp::LOAD })
                 .store_op(store)
@@ -368,6 +371,23 @@ impl<'a> Recorder<'a> {
                 vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
                 buffer.raw,
                 &[region],
+            )
+        };
+    }
+
+    /// Clears every layer of a depth image in [`ImageState::TransferDst`] to `depth` (and
+    /// stencil to 0).
+    pub fn clear_depth_image(&mut self, image: &'a Image, depth: f32) {
+        let range = image.range(0, image.desc.layers);
+        let value = vk::ClearDepthStencilValue { depth, stencil: 0 };
+        // SAFETY: alive for 'a; in TRANSFER_DST_OPTIMAL (caller transitions); TRANSFER_DST usage.
+        unsafe {
+            self.device().cmd_clear_depth_stencil_image(
+                self.cmd,
+                image.raw,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &value,
+                &[range],
             )
         };
     }

@@ -202,22 +202,27 @@ impl Image {
         Ok(image)
     }
 
-    /// Creates an extra view over `count` layers from `first` (e.g. one cube face to render to).
-    /// The caller owns it and destroys it with [`Image::destroy_view`].
-    pub fn create_view(&self, view_type: vk::ImageViewType, first: u32, count: u32) -> VkResult<vk::ImageView> {
+    /// A 2D view of one layer (a cube face or array slice to render to).
+    pub fn layer_view(&self, layer: u32, name: &str) -> VkResult<ImageView> {
+        if layer >= self.desc.layers {
+            return Err(VkError::InvalidDesc {
+                what: "image view",
+                why: format!("{name}: layer {layer} of {} layers", self.desc.layers),
+            });
+        }
+        let raw = self.create_view(vk::ImageViewType::TYPE_2D, layer, 1)?;
+        self.ctx.set_name(raw, name);
+        Ok(ImageView { raw, ctx: self.ctx.clone() })
+    }
+
+    fn create_view(&self, view_type: vk::ImageViewType, first: u32, count: u32) -> VkResult<vk::ImageView> {
         let info = vk::ImageViewCreateInfo::default()
             .image(self.raw)
             .view_type(view_type)
             .format(self.desc.format)
             .subresource_range(self.range(first, count));
-        // SAFETY: the range lies inside the image (callers pass layers of `desc`).
+        // SAFETY: the range lies inside the image (callers check layers against `desc`).
         unsafe { self.ctx.inner.device.create_image_view(&info, None) }.call("vkCreateImageView")
-    }
-
-    /// Destroys a view made by [`Image::create_view`].
-    pub fn destroy_view(&self, view: vk::ImageView) {
-        // SAFETY: umbra waits for every submission, so the view is no longer in use.
-        unsafe { self.ctx.inner.device.destroy_image_view(view, None) };
     }
 
     /// The subresource range of `count` layers from `first`, every aspect.
@@ -234,6 +239,27 @@ impl Image {
     /// Width and height as an extent.
     pub fn extent(&self) -> vk::Extent2D {
         vk::Extent2D { width: self.desc.width, height: self.desc.height }
+    }
+}
+
+/// An extra view of an image (see [`Image::layer_view`]); destroyed on drop. Keep the image
+/// alive as long as the view.
+pub struct ImageView {
+    /// The raw view.
+    pub raw: vk::ImageView,
+    ctx: Context,
+}
+
+impl std::fmt::Debug for ImageView {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ImageView").field("raw", &self.raw).finish()
+    }
+}
+
+impl Drop for ImageView {
+    fn drop(&mut self) {
+        // SAFETY: umbra waits for every submission, so the view is no longer in use.
+        unsafe { self.ctx.inner.device.destroy_image_view(self.raw, None) };
     }
 }
 

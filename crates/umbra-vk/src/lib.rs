@@ -44,7 +44,7 @@ pub use commands::{ColorAttachment, DepthAttachment, Recorder, RenderTargets};
 pub use context::{Context, ContextOptions, ExternalDevice, VALIDATION_ENV};
 pub use descriptors::{Binding, DescriptorSet, DescriptorSetLayout, Resource};
 pub use error::{VkError, VkResult};
-pub use image::{format_aspect, texel_size, Image, ImageDesc, ImageState};
+pub use image::{format_aspect, texel_size, Image, ImageDesc, ImageState, ImageView};
 pub use memory::Memory;
 pub use pipeline::{
     Blend, ColorTarget, DepthState, GraphicsPipeline, GraphicsPipelineDesc, PipelineLayout, StencilFace,

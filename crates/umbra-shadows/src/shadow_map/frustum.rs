@@ -1,0 +1,291 @@
+//! Light frusta: which view-projections a light's shadow map is rendered with.
+//!
+//! - directional: an orthographic box fitted to the casters that can shadow visible receivers
+//!   (their light-space xy overlap; depth from the nearest caster to the farthest of both);
+//! - spot: a perspective frustum around the cone (2 × outer angle plus a margin, so the
+//!   frustum's border lies outside the lit cone); cones wider than 80° use a cube map;
+//! - point: six 90° faces of a cube map (Arneson §3), oriented as Vulkan samples cube maps.
+
+use glam::{Mat4, Vec3, Vec4, Vec4Swizzles};
+use umbra_scene::{Aabb, Light, LightKind, Scene};
+
+/// Spot cones wider than this (half-angle, degrees) get a cube map.
+const MAX_SPOT_DEG: f32 = 80.0;
+/// Extra degrees around a spot cone, so its edge never meets the frustum border.
+const SPOT_MARGIN_DEG: f32 = 2.0;
+
+/// Single map or cube map.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum MapKind {
+    /// One 2D map (spot, directional).
+    Single,
+    /// Six faces (point, wide spot).
+    Cube,
+}
+
+/// The views a light's shadow map needs.
+#[derive(Clone, Debug)]
+pub(crate) struct LightViews {
+    pub kind: MapKind,
+    /// One view-projection per map layer.
+    pub views: Vec<Mat4>,
+    /// Near and far distances (perspective: from the light; orthographic: along its rays).
+    pub near: f32,
+    pub far: f32,
+    /// Objects that cast into this map, nearest to the light first.
+    pub casters: Vec<usize>,
+}
+
+/// Fits the views of `light`, or `None` when no caster can shadow a visible receiver.
+pub(crate) fn fit(light: &Light, scene: &Scene, camera_view_proj: Mat4) -> Option<LightViews> {
+    let boxes: Vec<Option<Aabb>> =
+        scene.objects.iter().map(|o| scene.meshes.get(o.mesh).map(|m| m.bounds().transformed(&o.transform))).collect();
+    let casters: Vec<usize> =
+        (0..scene.objects.len()).filter(|&i| scene.objects[i].casts_shadows && boxes[i].is_some()).collect();
+    let receivers: Vec<Aabb> = (0..scene.objects.len())
+        .filter(|&i| scene.objects[i].receives_shadows)
+        .filter_map(|i| boxes[i])
+        .filter(|b| intersects_frustum(camera_view_proj, b))
+        .collect();
+    if casters.is_empty() || receivers.is_empty() {
+        return None;
+    }
+    let caster_boxes: Vec<Aabb> = casters.iter().filter_map(|&i| boxes[i]).collect();
+    let mut fitted = match light.kind() {
+        LightKind::Directional => directional(light.position.xyz(), &caster_boxes, &receivers)?,
+        LightKind::Spot if light.spot.is_some_and(|s| s.outer_deg <= MAX_SPOT_DEG) => {
+            spot(light, &caster_boxes, &receivers)
+        }
+        LightKind::Spot | LightKind::Point => cube(light.position.xyz(), &caster_boxes, &receivers),
+    };
+    // Front to back from the light: cheap, and it lets early depth reject hidden casters.
+    let key = |i: &usize| {
+        let c = boxes[*i].map(|b| b.center()).unwrap_or_default();
+        if light.position.w == 0.0 {
+            -c.dot(light.position.xyz())
+        } else {
+            c.distance_squared(light.position.xyz())
+        }
+    };
+    let mut order = casters;
+    order.sort_by(|a, b| key(a).total_cmp(&key(b)));
+    fitted.casters = order;
+    Some(fitted)
+}
+
+fn directional(towards_light: Vec3, casters: &[Aabb], receivers: &[Aabb]) -> Option<LightViews> {
+    let all = casters.iter().chain(receivers).fold(Aabb::EMPTY, |a, b| a.union(*b));
+    let dir = towards_light.normalize();
+    let eye = all.center() + dir * (2.0 * all.radius() + 1.0);
+    let view = Mat4::look_at_rh(eye, all.center(), any_up(dir));
+    let light_space = |boxes: &[Aabb]| boxes.iter().fold(Aabb::EMPTY, |a, b| a.union(b.transformed(&view)));
+    let (c, r) = (light_space(casters), light_space(receivers));
+    // Only where casters and receivers overlap in light-space xy can a shadow fall.
+    let (min, max) = (c.min.max(r.min), c.max.min(r.max));
+    if min.x >= max.x || min.y >= max.y {
+        return None;
+    }
+    let pad = (max - min) * 0.01 + Vec3::splat(1e-4);
+    // View space looks down -z: distance along the rays is -z.
+    let near = -c.max.z;
+    let far = (-c.min.z).max(-r.min.z);
+    let depth_pad = (far - near) * 0.01 + 1e-3;
+    let (near, far) = (near - depth_pad, far + depth_pad);
+    let proj = Mat4::orthographic_rh(min.x - pad.x, max.x + pad.x, min.y - pad.y, max.y + pad.y, near, far);
+    Some(LightViews { kind: MapKind::Single, views: vec![proj * view], near, far, casters: vec![] })
+}
+
+/// The far distance from `p` that holds every caster and receiver (a view's depth never
+/// exceeds the Euclidean distance).
+fn far_from(p: Vec3, casters: &[Aabb], receivers: &[Aabb]) -> f32 {
+    let far_corner = |b: &Aabb| (p - b.min).abs().max((p - b.max).abs()).length();
+    casters.iter().chain(receivers).map(far_corner).fold(0.0f32, f32::max) * 1.01 + 1e-3
+}
+
+/// A near plane in front of every caster's nearest `depth`, but not so close that depth
+/// precision collapses: 90% of the nearest caster, at least far / 10^4.
+fn near_plane(nearest_caster: f32, far: f32) -> (f32, f32) {
+    let near = (nearest_caster * 0.9).max(far * 1e-4);
+    (near, far.max(near * 2.0))
+}
+
+fn spot(light: &Light, casters: &[Aabb], receivers: &[Aabb]) -> LightViews {
+    let p = light.position.xyz();
+    let s = light.spot.unwrap_or(umbra_scene::Spot { direction: -Vec3::Y, inner_deg: 30.0, outer_deg: 30.0 });
+    let axis = s.direction.normalize();
+    // Depth along the spot's axis, not distance: the nearest caster corner along the axis.
+    let nearest = casters.iter().flat_map(corners).map(|c| (c - p).dot(axis)).fold(f32::INFINITY, f32::min);
+    let (near, far) = near_plane(nearest, far_from(p, casters, receivers));
+    let fov = (2.0 * (s.outer_deg + SPOT_MARGIN_DEG)).to_radians();
+    let view = Mat4::look_at_rh(p, p + axis, any_up(axis));
+    let proj = Mat4::perspective_rh(fov, 1.0, near, far);
+    LightViews { kind: MapKind::Single, views: vec![proj * view], near, far, casters: vec![] }
+}
+
+/// Right, up and forward of the six cube faces in Vulkan's layer order (+X, -X, +Y, -Y, +Z,
+/// -Z), such that rendering with umbra's y-up viewport stores texel (s, t) where
+/// `texture(samplerCube, v)` reads it (Vulkan spec, "Cube Map Face Selection").
+pub(crate) const CUBE_FACES: [(Vec3, Vec3, Vec3); 6] = [
+    (Vec3::NEG_Z, Vec3::Y, Vec3::X),
+    (Vec3::Z, Vec3::Y, Vec3::NEG_X),
+    (Vec3::X, Vec3::NEG_Z, Vec3::Y),
+    (Vec3::X, Vec3::Z, Vec3::NEG_Y),
+    (Vec3::X, Vec3::Y, Vec3::Z),
+    (Vec3::NEG_X, Vec3::Y, Vec3::NEG_Z),
+];
+
+fn cube(p: Vec3, casters: &[Aabb], receivers: &[Aabb]) -> LightViews {
+    // A point's depth in the face it falls in is its major-axis distance |v|_inf, so the near
+    // plane must lie inside the L-infinity distance to every caster, not the Euclidean one (a
+    // caster corner on a face seam is sqrt(2) nearer along the axis than in distance).
+    let linf = |b: &Aabb| (b.min - p).max(p - b.max).max(Vec3::ZERO).max_element();
+    let nearest = casters.iter().map(linf).fold(f32::INFINITY, f32::min);
+    let (near, far) = near_plane(nearest, far_from(p, casters, receivers));
+    let proj = Mat4::perspective_rh(std::f32::consts::FRAC_PI_2, 1.0, near, far);
+    let views = CUBE_FACES
+        .iter()
+        .map(|&(r, u, f)| {
+            // Rows r, u, -f: a mirrored basis, as cube faces are; the shadow pass culls nothing.
+            let view = Mat4::from_cols(
+                Vec4::new(r.x, u.x, -f.x, 0.0),
+                Vec4::new(r.y, u.y, -f.y, 0.0),
+                Vec4::new(r.z, u.z, -f.z, 0.0),
+                Vec4::new(-r.dot(p), -u.dot(p), f.dot(p), 1.0),
+            );
+            proj * view
+        })
+        .collect();
+    LightViews { kind: MapKind::Cube, views, near, far, casters: vec![] }
+}
+
+fn corners(b: &Aabb) -> [Vec3; 8] {
+    std::array::from_fn(|i| {
+        Vec3::new(
+            if i & 1 == 0 { b.min.x } else { b.max.x },
+            if i & 2 == 0 { b.min.y } else { b.max.y },
+            if i & 4 == 0 { b.min.z } else { b.max.z },
+        )
+    })
+}
+
+fn any_up(dir: Vec3) -> Vec3 {
+    if dir.normalize().y.abs() > 0.99 {
+        Vec3::Z
+    } else {
+        Vec3::Y
+    }
+}
+
+/// Whether an AABB may be inside the clip volume of `view_proj` (0 ≤ z ≤ w). Planes with a
+/// vanishing normal (an infinite far plane) are ignored.
+pub(crate) fn intersects_frustum(view_proj: Mat4, b: &Aabb) -> bool {
+    let m = view_proj.transpose(); // rows of view_proj as columns
+    let (r0, r1, r2, r3) = (m.x_axis, m.y_axis, m.z_axis, m.w_axis);
+    let planes = [r3 + r0, r3 - r0, r3 + r1, r3 - r1, r2, r3 - r2];
+    planes.iter().all(|pl| {
+        let n = pl.xyz();
+        if n.length_squared() < 1e-12 {
+            return true;
+        }
+        // The box corner farthest along the plane normal.
+        let corner = Vec3::select(n.cmpge(Vec3::ZERO), b.max, b.min);
+        n.dot(corner) + pl.w >= 0.0
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Vulkan's cube face selection: (face, sc, tc, ma) for a direction.
+    fn select_face(v: Vec3) -> (usize, f32, f32, f32) {
+        let a = v.abs();
+        if a.x >= a.y && a.x >= a.z {
+            if v.x > 0.0 {
+                (0, -v.z, -v.y, a.x)
+            } else {
+                (1, v.z, -v.y, a.x)
+            }
+        } else if a.y >= a.z {
+            if v.y > 0.0 {
+                (2, v.x, v.z, a.y)
+            } else {
+                (3, v.x, -v.z, a.y)
+            }
+        } else if v.z > 0.0 {
+            (4, v.x, -v.y, a.z)
+        } else {
+            (5, -v.x, -v.y, a.z)
+        }
+    }
+
+    #[test]
+    fn cube_faces_store_each_direction_where_the_sampler_reads_it() {
+        let p = Vec3::new(1.0, 2.0, -3.0);
+        let boxes = [Aabb { min: Vec3::splat(-10.0), max: Vec3::splat(10.0) }];
+        let views = cube(p, &boxes, &boxes);
+        let mut seed = 12345u32;
+        let mut rnd = || {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (seed >> 8) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0
+        };
+        // Every caster must lie beyond the near plane in the face that holds it.
+        let seam_box = Aabb { min: Vec3::new(1.9, 1.9, -3.0), max: Vec3::new(2.4, 2.4, -2.5) };
+        let near_test = cube(p, &[seam_box], &boxes);
+        let nearest_corner = Vec3::new(1.9, 1.9, -3.0) - p;
+        assert!(near_test.near < nearest_corner.abs().max_element(), "near {} clips the seam box", near_test.near);
+        for _ in 0..500 {
+            let v = Vec3::new(rnd(), rnd(), rnd()) * 3.0;
+            if v.length() < 0.2 {
+                continue;
+            }
+            let (face, sc, tc, ma) = select_face(v);
+            let clip = views.views[face] * (p + v).extend(1.0);
+            let ndc = clip.xyz() / clip.w;
+            // The shadow pass's y-up viewport stores NDC (x, y) at s = (x+1)/2, t = (1-y)/2;
+            // the sampler reads s = (sc/ma+1)/2, t = (tc/ma+1)/2.
+            assert!((ndc.x - sc / ma).abs() < 1e-4, "face {face} x: {} vs {}", ndc.x, sc / ma);
+            assert!((-ndc.y - tc / ma).abs() < 1e-4, "face {face} y: {} vs {}", -ndc.y, tc / ma);
+            // The lookup shader's depth formula (lookup.glsl, lookup_cube).
+            let (n, f) = (views.near, views.far);
+            let expected = f / (f - n) * (1.0 - n / ma);
+            assert!((ndc.z - expected).abs() < 1e-4, "depth {} vs {expected}", ndc.z);
+        }
+    }
+
+    #[test]
+    fn directional_fit_holds_every_caster_inside_the_map() {
+        let casters = [Aabb { min: Vec3::new(-1.0, 1.0, -1.0), max: Vec3::new(1.0, 2.0, 1.0) }];
+        let receivers = [Aabb { min: Vec3::new(-10.0, -0.1, -10.0), max: Vec3::new(10.0, 0.0, 10.0) }];
+        let v = directional(Vec3::new(0.3, 1.0, 0.2), &casters, &receivers).unwrap();
+        for i in 0..8 {
+            let c = casters[0];
+            let p = Vec3::new(
+                if i & 1 == 0 { c.min.x } else { c.max.x },
+                if i & 2 == 0 { c.min.y } else { c.max.y },
+                if i & 4 == 0 { c.min.z } else { c.max.z },
+            );
+            let ndc = v.views[0].project_point3(p);
+            assert!(ndc.x.abs() <= 1.0 && ndc.y.abs() <= 1.0 && (0.0..=1.0).contains(&ndc.z), "{p} -> {ndc}");
+        }
+        // Casters entirely outside the receivers' light-space footprint shadow nothing.
+        let far_away = [Aabb { min: Vec3::new(50.0, 1.0, 50.0), max: Vec3::new(51.0, 2.0, 51.0) }];
+        assert!(directional(Vec3::Y, &far_away, &receivers).is_none());
+    }
+
+    #[test]
+    fn frustum_test_rejects_boxes_behind_the_camera() {
+        let cam = umbra_scene::Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO);
+        let vp = cam.view_proj(1.0);
+        let front = Aabb { min: Vec3::splat(-0.5), max: Vec3::splat(0.5) };
+        let behind = Aabb { min: Vec3::new(-0.5, -0.5, 9.0), max: Vec3::new(0.5, 0.5, 10.0) };
+        assert!(intersects_frustum(vp, &front));
+        assert!(!intersects_frustum(vp, &behind));
+        let mut inf = cam;
+        inf.far = None;
+        assert!(intersects_frustum(
+            inf.view_proj(1.0),
+            &Aabb { min: Vec3::new(0.0, 0.0, -1e6), max: Vec3::new(1.0, 1.0, -1e6 + 1.0) }
+        ));
+    }
+}

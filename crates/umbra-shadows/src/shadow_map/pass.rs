@@ -1,0 +1,217 @@
+//! The shadow-map pass (Williams' first pass): depth from the light into a D32 map or cube
+//! map, then the descriptor set through which the lighting pass compares against it.
+
+use super::frustum::{LightViews, MapKind};
+use super::settings::{ShadowFilter, ShadowMapSettings};
+use crate::gpu_scene::{self, DrawPush, GpuScene};
+use crate::timing::PassLog;
+use crate::{RenderError, RenderResult};
+use umbra_scene::Scene;
+use umbra_vk::{
+    vk, Binding, Context, DepthAttachment, DepthState, DescriptorSet, DescriptorSetLayout, GraphicsPipeline,
+    GraphicsPipelineDesc, Image, ImageDesc, ImageState, ImageView, PipelineLayout, Recorder, RenderTargets, Resource,
+    Sampler, SamplerDesc,
+};
+
+/// Shadow maps are single-channel 32-bit float depth.
+const FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+
+/// One light's shadow map: the image and, for cube maps, a view per face to render into.
+pub(crate) struct ShadowTarget {
+    image: Image,
+    faces: Vec<ImageView>,
+}
+
+/// Pipelines, sampler and targets of the shadow-map technique.
+pub(crate) struct ShadowMapPass {
+    settings: ShadowMapSettings,
+    pipeline: GraphicsPipeline,
+    sampler: Sampler,
+    placeholder_2d: Image,
+    placeholder_cube: Image,
+    targets: Vec<Option<ShadowTarget>>,
+}
+
+/// Set 1 of the lighting pass: the 2D map and the cube map of the light being drawn.
+pub(crate) fn shadow_set_layout(ctx: &Context) -> RenderResult<DescriptorSetLayout> {
+    let ty = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
+    let stages = vk::ShaderStageFlags::FRAGMENT;
+    Ok(DescriptorSetLayout::new(
+        ctx,
+        "shadow set layout",
+        &[Binding { binding: 0, ty, stages }, Binding { binding: 1, ty, stages }],
+    )?)
+}
+
+impl ShadowMapPass {
+    /// Builds the depth pipeline (against the renderer's shared `layout`) and the sampler.
+    pub fn new(ctx: &Context, layout: &PipelineLayout, settings: ShadowMapSettings) -> RenderResult<Self> {
+        if !ctx.capabilities().depth32_sampled {
+            return Err(ctx.unsupported("D32_SFLOAT as a sampled depth attachment (shadow maps)").into());
+        }
+        let mut desc = GraphicsPipelineDesc::new("shadow map depth", umbra_shaders::shadow_map::DEPTH_VERT);
+        desc.vertex_stride = gpu_scene::VERTEX_STRIDE;
+        desc.vertex_attributes = &gpu_scene::VERTEX_ATTRIBUTES[..1];
+        // Open meshes and mirrored cube faces: both sides of every triangle occlude.
+        desc.cull = vk::CullModeFlags::NONE;
+        desc.depth = DepthState { compare: vk::CompareOp::LESS, bias: true, ..DepthState::TEST_AND_WRITE };
+        desc.depth_format = FORMAT;
+        let pipeline = GraphicsPipeline::new(ctx, layout, &desc)?;
+        let filter = match settings.filter {
+            ShadowFilter::Pcf2x2 => vk::Filter::LINEAR,
+            _ => vk::Filter::NEAREST,
+        };
+        let sampler = Sampler::new(
+            ctx,
+            &format!("shadow map sampler ({})", settings.filter.name()),
+            SamplerDesc {
+                filter,
+                address: vk::SamplerAddressMode::CLAMP_TO_EDGE,
+                compare: Some(vk::CompareOp::LESS_OR_EQUAL),
+            },
+        )?;
+        let usage = vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST;
+        let placeholder_2d = Image::new(ctx, "no shadow map", ImageDesc::new_2d(FORMAT, 1, 1).usage(usage))?;
+        let placeholder_cube = Image::new(ctx, "no shadow cube", ImageDesc::new_cube(FORMAT, 1).usage(usage))?;
+        let mut rec = ctx.begin_commands("clear shadow placeholders")?;
+        let (undefined, dst, read) = (ImageState::Undefined, ImageState::TransferDst, ImageState::FragmentRead);
+        rec.transition(&[(&placeholder_2d, undefined, dst), (&placeholder_cube, undefined, dst)]);
+        rec.clear_depth_image(&placeholder_2d, 1.0);
+        rec.clear_depth_image(&placeholder_cube, 1.0);
+        rec.transition(&[(&placeholder_2d, dst, read), (&placeholder_cube, dst, read)]);
+        ctx.submit_and_wait(rec)?;
+        Ok(Self { settings, pipeline, sampler, placeholder_2d, placeholder_cube, targets: Vec::new() })
+    }
+
+    /// The settings the pass was built with.
+    pub fn settings(&self) -> &ShadowMapSettings {
+        &self.settings
+    }
+
+    /// Makes sure light `light` has a map of `resolution` and `kind`, (re)creating it if not.
+    pub fn prepare(&mut self, ctx: &Context, light: usize, resolution: u32, kind: MapKind) -> RenderResult<()> {
+        let caps = ctx.capabilities();
+        let max = match kind {
+            MapKind::Single => caps.max_image_dimension_2d,
+            MapKind::Cube => caps.max_image_dimension_cube,
+        };
+        if !(ShadowMapSettings::MIN_RESOLUTION..=max).contains(&resolution) {
+            return Err(RenderError::InvalidShadowMap {
+                light,
+                resolution,
+                why: format!(
+                    "must be {}..={max} texels per side on {} ({})",
+                    ShadowMapSettings::MIN_RESOLUTION,
+                    caps.device_name,
+                    if kind == MapKind::Cube { "maxImageDimensionCube" } else { "maxImageDimension2D" }
+                ),
+            });
+        }
+        if self.targets.len() <= light {
+            self.targets.resize_with(light + 1, || None);
+        }
+        let fits = self.targets[light]
+            .as_ref()
+            .is_some_and(|t| t.image.desc.width == resolution && t.image.desc.cube == (kind == MapKind::Cube));
+        if fits {
+            return Ok(());
+        }
+        self.targets[light] = None;
+        let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
+        let name = format!("shadow map light {light}");
+        let target = match kind {
+            MapKind::Single => ShadowTarget {
+                image: Image::new(ctx, &name, ImageDesc::new_2d(FORMAT, resolution, resolution).usage(usage))?,
+                faces: Vec::new(),
+            },
+            MapKind::Cube => {
+                let image = Image::new(ctx, &name, ImageDesc::new_cube(FORMAT, resolution).usage(usage))?;
+                let faces =
+                    (0..6).map(|f| image.layer_view(f, &format!("{name} face {f}"))).collect::<Result<_, _>>()?;
+                ShadowTarget { image, faces }
+            }
+        };
+        self.targets[light] = Some(target);
+        Ok(())
+    }
+
+    /// Records the depth pass of light `light` (prepared with [`ShadowMapPass::prepare`]):
+    /// one rendering per map layer, casters front to back, then the map made readable.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record<'a>(
+        &'a self,
+        rec: &mut Recorder<'a>,
+        layout: &'a PipelineLayout,
+        gpu: &'a GpuScene,
+        scene: &Scene,
+        light: usize,
+        views: &LightViews,
+        first_view: u32,
+        log: &mut PassLog,
+    ) -> RenderResult<()> {
+        let target = self.target(light)?;
+        rec.transition(&[(&target.image, ImageState::Undefined, ImageState::DepthStencilAttachment)]);
+        for layer in 0..views.views.len() {
+            rec.begin_rendering(&RenderTargets {
+                color: &[],
+                depth: Some(DepthAttachment {
+                    image: &target.image,
+                    view: target.faces.get(layer),
+                    clear: Some((1.0, 0)),
+                    read_only: false,
+                }),
+            });
+            rec.bind_pipeline(&self.pipeline);
+            rec.set_depth_bias(self.settings.bias.constant, 0.0, self.settings.effective_slope());
+            rec.bind_descriptor_set(layout, 0, &gpu.set);
+            rec.bind_vertex_buffer(&gpu.vertices);
+            rec.bind_index_buffer(&gpu.indices);
+            for &object in &views.casters {
+                let Some(m) = scene.objects.get(object).and_then(|o| gpu.meshes.get(o.mesh)) else { continue };
+                if m.index_count == 0 {
+                    continue;
+                }
+                rec.push_constants(layout, &DrawPush { object: object as u32, view: first_view + layer as u32 });
+                rec.draw_indexed(m.index_count, m.first_index, m.vertex_offset);
+                log.count_draw(u64::from(m.index_count / 3));
+            }
+            rec.end_rendering();
+        }
+        rec.transition(&[(&target.image, ImageState::DepthStencilAttachment, ImageState::FragmentRead)]);
+        Ok(())
+    }
+
+    /// The lighting pass's set 1 for light `light`: its map, or the placeholders (depth 1,
+    /// never sampled: the light's shadow kind is `SHADOW_NONE`) when it has none this frame.
+    pub fn descriptor_set(
+        &self,
+        ctx: &Context,
+        layout: &DescriptorSetLayout,
+        light: Option<usize>,
+    ) -> RenderResult<DescriptorSet> {
+        let target = light.and_then(|l| self.targets.get(l)).and_then(Option::as_ref);
+        let (single, cube) = match target {
+            Some(t) if t.image.desc.cube => (&self.placeholder_2d, &t.image),
+            Some(t) => (&t.image, &self.placeholder_cube),
+            None => (&self.placeholder_2d, &self.placeholder_cube),
+        };
+        let sampled = |image: &Image| Resource::SampledImage {
+            view: image.view,
+            sampler: self.sampler.raw,
+            layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        };
+        let name = match light {
+            Some(l) => format!("shadow set light {l}"),
+            None => "shadow set (none)".to_owned(),
+        };
+        Ok(DescriptorSet::new(ctx, &name, layout, &[sampled(single), sampled(cube)])?)
+    }
+
+    fn target(&self, light: usize) -> RenderResult<&ShadowTarget> {
+        self.targets.get(light).and_then(Option::as_ref).ok_or(RenderError::InvalidShadowMap {
+            light,
+            resolution: 0,
+            why: "recorded before `prepare`".into(),
+        })
+    }
+}
