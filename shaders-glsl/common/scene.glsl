@@ -20,7 +20,7 @@ struct Light {
                          // z = shadow kind (SHADOW_NONE, SHADOW_2D, SHADOW_CUBE),
                          // w = index of its first view in `shadow_views`
     vec4 shadow_params;  // x = normal offset (world units), y = shadow-map texel size (1/res),
-                         // z = near, w = far of the cube map's faces
+                         // z = near, w = far of perspective maps (spot, cube faces)
 };
 
 const uint SHADOW_NONE = 0u;

@@ -65,7 +65,7 @@ pub(crate) struct GpuShadow {
     pub normal_offset: f32,
     /// 1 / resolution.
     pub texel: f32,
-    /// Cube faces' near and far distances.
+    /// Near and far view depths of perspective maps (spot, cube faces).
     pub near: f32,
     pub far: f32,
 }
