@@ -361,6 +361,11 @@ fn default_bias_leaves_no_acne_and_zero_bias_shows_it() {
         let (dark, floor) = acne(ctx, 75.0, zero);
         println!("75 deg, zero bias: {dark} acne pixels of {floor}");
         assert!(dark * 20 > floor, "zero bias must show acne on at least 5% of the floor (so the test can fail)");
+        // Normal offset alone (no depth bias) moves the lookup off the surface: no acne either.
+        let offset = ShadowMapSettings { normal_offset: 0.05, ..zero };
+        let (dark, floor) = acne(ctx, 75.0, offset);
+        println!("75 deg, zero bias, normal offset 0.05: {dark} acne pixels of {floor}");
+        assert_eq!(dark, 0, "a normal offset of 0.05 should remove the acne");
     });
 }
 
