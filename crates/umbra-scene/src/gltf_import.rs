@@ -99,12 +99,15 @@ fn read_primitive(
         Some(i) => i.into_u32().collect(),
         None => (0..positions.len() as u32).collect(),
     };
-    match reader.read_normals() {
+    let authored = crate::TopologyReport::of_indices(positions.len(), &indices);
+    let mut mesh = match reader.read_normals() {
         Some(n) => Mesh::new(name, positions, n.map(|n| Vec3::from(n).normalize_or_zero()).collect(), indices),
         // glTF 2.0 §3.7.2.1: "When normals are not specified, client implementations MUST
         // calculate flat normals."
         None => Mesh::with_flat_normals(name, &positions, &indices),
-    }
+    }?;
+    mesh.authored_topology = Some(authored);
+    Ok(mesh)
 }
 
 fn read_camera(cam: &gltf::Camera, world: Mat4) -> Option<Camera> {

@@ -11,6 +11,7 @@
 
 #![warn(missing_docs)]
 
+mod adjacency;
 mod camera;
 mod error;
 mod gltf_import;
@@ -21,6 +22,7 @@ pub mod procedural;
 mod scene;
 mod scene_file;
 
+pub use adjacency::{Adjacency, Edge, EdgeFace, TopologyReport};
 pub use camera::Camera;
 pub use error::{SceneError, SceneResult};
 pub use gltf_import::{import_gltf, import_gltf_slice};

@@ -68,6 +68,9 @@ pub struct Mesh {
     pub normals: Vec<Vec3>,
     /// Triangle list indices into `positions`.
     pub indices: Vec<u32>,
+    /// The topology as authored in the source file (index pairs, before any unwelding for
+    /// flat normals), when the mesh was imported; see [`crate::Adjacency`] for the welded one.
+    pub authored_topology: Option<crate::TopologyReport>,
 }
 
 impl Mesh {
@@ -79,7 +82,7 @@ impl Mesh {
         normals: Vec<Vec3>,
         indices: Vec<u32>,
     ) -> SceneResult<Self> {
-        let mesh = Self { name: name.into(), positions, normals, indices };
+        let mesh = Self { name: name.into(), positions, normals, indices, authored_topology: None };
         mesh.validate()?;
         Ok(mesh)
     }

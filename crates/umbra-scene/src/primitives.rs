@@ -7,7 +7,7 @@ use std::f32::consts::{PI, TAU};
 
 /// Builds a mesh from generated parts; generators only produce valid indices.
 fn assemble(name: &str, positions: Vec<Vec3>, normals: Vec<Vec3>, indices: Vec<u32>) -> Mesh {
-    Mesh { name: name.to_owned(), positions, normals, indices }
+    Mesh { name: name.to_owned(), positions, normals, indices, authored_topology: None }
 }
 
 /// A square in the XZ plane at y = 0, `size` wide, facing +Y (open: one-sided).
@@ -44,25 +44,30 @@ pub fn sphere(radius: f32, segments: u32, rings: u32) -> Mesh {
     displaced_sphere(radius, segments, rings, |_, _| 1.0)
 }
 
-/// A UV sphere whose radius is scaled by `scale(theta, phi)`; smooth normals.
+/// A UV sphere whose radius is scaled by `scale(theta, phi)`; smooth normals. Closed: one
+/// vertex per pole and the seam column shared, so welding by position finds no boundary.
 pub fn displaced_sphere(radius: f32, segments: u32, rings: u32, scale: impl Fn(f32, f32) -> f32) -> Mesh {
     let (segments, rings) = (segments.max(3), rings.max(2));
-    let mut positions = Vec::new();
-    for i in 0..=rings {
+    let mut positions = vec![Vec3::Y * radius * scale(0.0, 0.0)];
+    for i in 1..rings {
         let phi = PI * i as f32 / rings as f32;
-        for j in 0..=segments {
+        for j in 0..segments {
             let theta = TAU * j as f32 / segments as f32;
             let dir = Vec3::new(phi.sin() * theta.cos(), phi.cos(), phi.sin() * theta.sin());
-            // Share the pole and seam positions exactly so the surface is closed.
-            let theta_key = if j == segments { 0.0 } else { theta };
-            positions.push(dir * radius * scale(theta_key, phi));
+            positions.push(dir * radius * scale(theta, phi));
         }
     }
-    let stride = segments + 1;
+    positions.push(-Vec3::Y * radius * scale(0.0, PI));
+    let south = positions.len() as u32 - 1;
+    let at = |i: u32, j: u32| match i {
+        0 => 0,
+        i if i == rings => south,
+        i => 1 + (i - 1) * segments + j % segments,
+    };
     let mut indices = Vec::new();
     for i in 0..rings {
         for j in 0..segments {
-            let (a, b, c, d) = (i * stride + j, (i + 1) * stride + j, (i + 1) * stride + j + 1, i * stride + j + 1);
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
             if i != 0 {
                 indices.extend([a, d, b]);
             }

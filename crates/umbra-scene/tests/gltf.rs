@@ -121,6 +121,28 @@ fn assets() -> PathBuf {
 }
 
 #[test]
+fn the_topology_report_reproduces_the_assets_readme_table() {
+    // shared/assets/README.md: triangles, boundary edges, non-manifold edges, closed.
+    let table = [
+        ("spot.glb", 5_856, 0, 0, true),
+        ("fandisk.glb", 12_946, 0, 0, true),
+        ("teapot.glb", 6_320, 1_036, 0, false),
+        ("stanford-bunny.glb", 69_451, 223, 0, false),
+        ("suzanne.glb", 968, 42, 1, false),
+    ];
+    for (file, tris, boundary, non_manifold, closed) in table {
+        let scene = import_gltf(&assets().join(file)).unwrap();
+        let r = scene.meshes[0].authored_topology.expect("imported meshes record their topology");
+        let welded = umbra_scene::Adjacency::build(&scene.meshes[0]).report;
+        println!("{file}: authored {r:?}\n{file}: welded by position {welded:?}");
+        assert_eq!((r.triangles, r.boundary_edges, r.non_manifold_edges, r.closed), (tris, boundary, non_manifold, closed), "{file}");
+        // Welding by position can only merge vertices: never more boundary edges, and closed
+        // meshes stay closed.
+        assert!(welded.boundary_edges <= r.boundary_edges && (!closed || welded.closed), "{file}");
+    }
+}
+
+#[test]
 fn every_shared_asset_loads_with_its_documented_triangle_count() {
     let expected = [
         ("spot.glb", 5_856),
