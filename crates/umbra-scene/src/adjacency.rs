@@ -78,8 +78,11 @@ impl Adjacency {
                 })
             })
             .collect();
-        let triangles: Vec<[u32; 3]> =
-            mesh.indices.chunks_exact(3).map(|t| [welded[t[0] as usize], welded[t[1] as usize], welded[t[2] as usize]]).collect();
+        let triangles: Vec<[u32; 3]> = mesh
+            .indices
+            .chunks_exact(3)
+            .map(|t| [welded[t[0] as usize], welded[t[1] as usize], welded[t[2] as usize]])
+            .collect();
         let (edges, report) = edges_of(positions.len(), &triangles);
         Self { positions, triangles, edges, report }
     }
@@ -139,7 +142,12 @@ mod tests {
             let r = Adjacency::build(&m).report;
             assert!(r.closed, "{}: {r:?}", m.name);
             // Euler characteristic of a sphere: V - E + F = 2.
-            assert_eq!(r.vertices as i64 - r.edges as i64 + (r.triangles - r.degenerate_triangles) as i64, 2, "{}", m.name);
+            assert_eq!(
+                r.vertices as i64 - r.edges as i64 + (r.triangles - r.degenerate_triangles) as i64,
+                2,
+                "{}",
+                m.name
+            );
         }
         let r = Adjacency::build(&primitives::plane(1.0)).report;
         assert_eq!((r.boundary_edges, r.closed), (4, false));

@@ -21,6 +21,7 @@ pub mod primitives;
 pub mod procedural;
 mod scene;
 mod scene_file;
+mod volume;
 
 pub use adjacency::{Adjacency, Edge, EdgeFace, TopologyReport};
 pub use camera::Camera;
@@ -30,6 +31,7 @@ pub use light::{Light, LightKind, Spot, Technique};
 pub use mesh::{Aabb, Mesh};
 pub use scene::{Object, Scene};
 pub use scene_file::{load_scene_file, parse_scene};
+pub use volume::{extrude, Volume, VolumeStats, VolumeVertex};
 
 use std::path::Path;
 

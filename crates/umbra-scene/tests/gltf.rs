@@ -135,7 +135,11 @@ fn the_topology_report_reproduces_the_assets_readme_table() {
         let r = scene.meshes[0].authored_topology.expect("imported meshes record their topology");
         let welded = umbra_scene::Adjacency::build(&scene.meshes[0]).report;
         println!("{file}: authored {r:?}\n{file}: welded by position {welded:?}");
-        assert_eq!((r.triangles, r.boundary_edges, r.non_manifold_edges, r.closed), (tris, boundary, non_manifold, closed), "{file}");
+        assert_eq!(
+            (r.triangles, r.boundary_edges, r.non_manifold_edges, r.closed),
+            (tris, boundary, non_manifold, closed),
+            "{file}"
+        );
         // Welding by position can only merge vertices: never more boundary edges, and closed
         // meshes stay closed.
         assert!(welded.boundary_edges <= r.boundary_edges && (!closed || welded.closed), "{file}");

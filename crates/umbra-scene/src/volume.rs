@@ -1,0 +1,231 @@
+//! Shadow volumes on the CPU (Everitt–Kilgard 2002 §2–3), per caster and per light:
+//! triangle facing from each plane evaluated at the homogeneous light position, silhouette
+//! edges, the extruded side quads, and the caps.
+//!
+//! The volume is a list of triangles over [`VolumeVertex`]es: a welded mesh vertex, either as
+//! is or extruded to infinity away from the light. The vertex shader makes the far vertex
+//! `(A·Lw − L·Aw, 0)` (w = 0), so no geometry shader is needed.
+//!
+//! - Closed 2-manifold casters: front cap = the light-facing triangles, back cap = the
+//!   back-facing triangles at infinity, sides = the silhouette edges (one light-facing and one
+//!   back-facing face) extruded — the paper's construction.
+//! - Open or non-manifold casters (Bergeron; Arneson §4): each light-facing triangle is closed
+//!   on its own — back cap = the light-facing triangles, reversed, at infinity — and an edge is
+//!   extruded as many times as the net count of light-facing faces that walk it one way minus
+//!   the other. Boundary edges and edges of 3+ faces then close the volume, never leaving a
+//!   crack or an inverted region.
+//!
+//! Either way every directed edge of the volume has a reverse twin (the closed-volume
+//! invariant the tests check), so the stencil count along any ray is its winding number.
+
+use crate::Adjacency;
+use glam::{Vec3, Vec4};
+use serde::Serialize;
+
+/// A volume vertex: welded mesh vertex `vertex`, extruded to infinity when `far`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct VolumeVertex {
+    /// Index into [`Adjacency::positions`].
+    pub vertex: u32,
+    /// Projected to infinity away from the light.
+    pub far: bool,
+}
+
+/// How many of each part a volume has.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct VolumeStats {
+    /// Edges extruded into side quads (with multiplicity).
+    pub silhouette_edges: usize,
+    /// Side triangles (two per extruded edge).
+    pub side_triangles: usize,
+    /// Front and back cap triangles.
+    pub cap_triangles: usize,
+    /// Triangles facing the light.
+    pub light_facing: usize,
+}
+
+/// One caster's shadow volume for one light.
+#[derive(Clone, Debug, Default)]
+pub struct Volume {
+    /// Side triangles (all z-pass needs).
+    pub sides: Vec<[VolumeVertex; 3]>,
+    /// Front and back caps (z-fail needs them too).
+    pub caps: Vec<[VolumeVertex; 3]>,
+    /// Counts.
+    pub stats: VolumeStats,
+}
+
+const fn near(vertex: u32) -> VolumeVertex {
+    VolumeVertex { vertex, far: false }
+}
+
+const fn far(vertex: u32) -> VolumeVertex {
+    VolumeVertex { vertex, far: true }
+}
+
+impl Volume {
+    /// Builds the volume of a caster whose welded connectivity is `adj`, for a light at the
+    /// homogeneous position `light` **in the caster's object space** (w = 0 directional).
+    /// A triangle faces the light when its plane evaluated at `light` is positive.
+    pub fn build(adj: &Adjacency, light: Vec4) -> Self {
+        let facing: Vec<bool> = adj
+            .triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| adj.positions[i as usize]);
+                let n = (b - a).cross(c - a);
+                // Plane (n, -n·a) at the homogeneous light position.
+                n.dot(light.truncate()) - n.dot(a) * light.w > 0.0
+            })
+            .collect();
+        let degenerate = |t: &[u32; 3]| t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
+        let closed = adj.report.closed;
+        let mut v = Volume::default();
+        for (t, &lit) in adj.triangles.iter().zip(&facing) {
+            if degenerate(t) {
+                continue;
+            }
+            let [a, b, c] = *t;
+            if lit {
+                v.stats.light_facing += 1;
+                v.caps.push([near(a), near(b), near(c)]);
+                if !closed {
+                    v.caps.push([far(a), far(c), far(b)]);
+                }
+            } else if closed {
+                v.caps.push([far(a), far(b), far(c)]);
+            }
+        }
+        for e in &adj.edges {
+            // Net walks of the edge v0 -> v1 by light-facing faces.
+            let net: i32 =
+                e.faces.iter().filter(|f| facing[f.face as usize]).map(|f| if f.forward { 1 } else { -1 }).sum();
+            // A light-facing face walking a -> b is closed by the side b -> a -> a_inf -> b_inf.
+            let (a, b) = if net > 0 { (e.v[0], e.v[1]) } else { (e.v[1], e.v[0]) };
+            for _ in 0..net.unsigned_abs() {
+                v.sides.push([near(b), near(a), far(a)]);
+                v.sides.push([near(b), far(a), far(b)]);
+                v.stats.silhouette_edges += 1;
+            }
+        }
+        v.stats.side_triangles = v.sides.len();
+        v.stats.cap_triangles = v.caps.len();
+        v
+    }
+
+    /// Vertices for the GPU: object-space position with w = 1, or w = 0 for far vertices
+    /// (the vertex shader extrudes those). Sides first, then caps.
+    pub fn vertices(&self, adj: &Adjacency, with_caps: bool) -> Vec<Vec4> {
+        let tris = self.sides.iter().chain(if with_caps { &self.caps[..] } else { &[] });
+        tris.flat_map(|t| t.map(|v| adj.positions[v.vertex as usize].extend(if v.far { 0.0 } else { 1.0 }))).collect()
+    }
+
+    /// Every directed edge of every triangle, for the closed-volume check.
+    pub fn directed_edges(&self) -> impl Iterator<Item = (VolumeVertex, VolumeVertex)> + '_ {
+        self.sides.iter().chain(&self.caps).flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+    }
+
+    /// Whether every directed edge has exactly as many reverse twins as copies (a closed
+    /// surface, counted with multiplicity).
+    pub fn is_closed(&self) -> bool {
+        let mut count: std::collections::HashMap<(VolumeVertex, VolumeVertex), i64> = Default::default();
+        for (a, b) in self.directed_edges() {
+            *count.entry((a, b)).or_default() += 1;
+            *count.entry((b, a)).or_default() -= 1;
+        }
+        count.values().all(|&c| c == 0)
+    }
+}
+
+/// The point a far vertex stands for, for a world- or object-space light: the direction
+/// `A·Lw − L·Aw` (w = 0). Exposed for CPU-side tests of the vertex shader's formula.
+pub fn extrude(a: Vec3, light: Vec4) -> Vec4 {
+    (a * light.w - light.truncate()).extend(0.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::primitives;
+    use proptest::prelude::*;
+
+    fn light_strategy() -> impl Strategy<Value = Vec4> {
+        (-4.0f32..4.0, -4.0f32..4.0, -4.0f32..4.0, prop::bool::ANY).prop_map(|(x, y, z, directional)| {
+            if directional {
+                Vec3::new(x, y, z).normalize_or(Vec3::Y).extend(0.0)
+            } else {
+                Vec4::new(x, y, z, 1.0)
+            }
+        })
+    }
+
+    /// Random closed, non-convex meshes: spheres with random bumps.
+    fn closed_mesh() -> impl Strategy<Value = crate::Mesh> {
+        (3u32..14, 2u32..9, prop::collection::vec(0.5f32..1.5, 8)).prop_map(|(segments, rings, bumps)| {
+            primitives::displaced_sphere(1.0, segments, rings, |t, p| {
+                bumps[((t * 3.0) as usize + (p * 5.0) as usize) % bumps.len()]
+            })
+        })
+    }
+
+    proptest! {
+        #[test]
+        fn volumes_of_closed_meshes_are_closed(mesh in closed_mesh(), light in light_strategy()) {
+            let adj = Adjacency::build(&mesh);
+            prop_assert!(adj.report.closed);
+            let v = Volume::build(&adj, light);
+            prop_assert!(v.is_closed(), "{:?}", v.stats);
+            // Closed manifold: front cap + back cap cover every triangle once.
+            prop_assert_eq!(v.stats.cap_triangles, adj.report.triangles - adj.report.degenerate_triangles);
+        }
+
+        #[test]
+        fn volumes_of_open_meshes_are_closed_too(mesh in closed_mesh(), light in light_strategy(), keep in prop::collection::vec(prop::bool::weighted(0.7), 64)) {
+            // Punch random holes: drop triangles.
+            let mut open = mesh.clone();
+            open.indices = mesh.indices.chunks_exact(3).enumerate().filter(|(i, _)| keep[i % keep.len()]).flat_map(|(_, t)| t.to_vec()).collect();
+            let adj = Adjacency::build(&open);
+            let v = Volume::build(&adj, light);
+            prop_assert!(v.is_closed(), "{:?}", v.stats);
+        }
+    }
+
+    #[test]
+    fn a_box_lit_from_above_has_four_silhouette_edges() {
+        let adj = Adjacency::build(&primitives::cuboid(Vec3::ONE));
+        let v = Volume::build(&adj, Vec4::new(0.0, 5.0, 0.0, 1.0));
+        assert_eq!(v.stats.silhouette_edges, 4);
+        assert_eq!(v.stats.light_facing, 2);
+        assert!(v.is_closed());
+    }
+
+    #[test]
+    fn non_manifold_fins_close_with_multiplicity() {
+        // Three quads sharing one edge (x = 0 axis), lit from +y: a non-manifold edge.
+        let p = [
+            Vec3::ZERO,
+            Vec3::Z,
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 1.0),
+            Vec3::new(-1.0, 0.0, 0.0),
+            Vec3::new(-1.0, 0.0, 1.0),
+            Vec3::new(0.0, -1.0, 0.0),
+            Vec3::new(0.0, -1.0, 1.0),
+        ];
+        let idx = [0, 1, 3, 0, 3, 2, 0, 4, 5, 0, 5, 1, 0, 6, 7, 0, 7, 1];
+        let mesh = crate::Mesh::with_flat_normals("fins", &p, &idx).unwrap();
+        let adj = Adjacency::build(&mesh);
+        assert_eq!(adj.report.non_manifold_edges, 1);
+        for light in [Vec4::new(0.3, 2.0, 0.5, 1.0), Vec4::new(0.2, 1.0, 0.1, 0.0), Vec4::new(-2.0, -1.0, 0.5, 1.0)] {
+            assert!(Volume::build(&adj, light).is_closed());
+        }
+    }
+
+    #[test]
+    fn far_vertices_point_away_from_the_light() {
+        let l = Vec4::new(0.0, 4.0, 0.0, 1.0);
+        assert_eq!(extrude(Vec3::ZERO, l), Vec4::new(0.0, -4.0, 0.0, 0.0));
+        let d = Vec4::new(0.0, 1.0, 0.0, 0.0);
+        assert_eq!(extrude(Vec3::new(5.0, 1.0, 2.0), d), Vec4::new(0.0, -1.0, 0.0, 0.0));
+    }
+}
