@@ -42,7 +42,13 @@ fn occlusion_queries_count_every_covered_sample_and_depth_is_read_back() {
         rec.transition(&[(&depth, ImageState::Undefined, ImageState::DepthStencilAttachment)]);
         rec.begin_rendering(&RenderTargets {
             color: &[],
-            depth: Some(DepthAttachment { image: &depth, view: None, clear: Some((1.0, 0)), read_only: false }),
+            depth: Some(DepthAttachment {
+                image: &depth,
+                view: None,
+                clear: Some((1.0, 0)),
+                read_only: false,
+                clear_stencil: None,
+            }),
         });
         rec.bind_pipeline(&pipeline);
         rec.begin_query(&queries, 0);
@@ -101,7 +107,13 @@ fn depth_bounds_masks_by_the_stored_depth_where_supported() {
         rec.transition(&[(&depth, ImageState::Undefined, ImageState::DepthStencilAttachment)]);
         rec.begin_rendering(&RenderTargets {
             color: &[],
-            depth: Some(DepthAttachment { image: &depth, view: None, clear: Some((1.0, 0)), read_only: false }),
+            depth: Some(DepthAttachment {
+                image: &depth,
+                view: None,
+                clear: Some((1.0, 0)),
+                read_only: false,
+                clear_stencil: None,
+            }),
         });
         rec.bind_pipeline(&write);
         rec.draw(3);

@@ -13,13 +13,15 @@ use crate::RenderResult;
 use umbra_scene::Scene;
 use umbra_vk::{
     vk, Blend, ColorTarget, Context, DepthState, DescriptorSet, GraphicsPipeline, GraphicsPipelineDesc, PipelineLayout,
-    Recorder,
+    Recorder, StencilFace,
 };
 
 /// The forward pipelines.
 pub(crate) struct Forward {
     ambient: GraphicsPipeline,
     light: GraphicsPipeline,
+    /// The light pass of shadow-volume lights: lit only where the stencil count is 0.
+    light_stenciled: GraphicsPipeline,
 }
 
 impl Forward {
@@ -50,7 +52,11 @@ impl Forward {
         let additive = [ColorTarget { blend: Some(Blend::ADDITIVE), ..ColorTarget::opaque(color_format) }];
         desc.color_targets = &additive;
         let light = GraphicsPipeline::new(ctx, layout, &desc)?;
-        Ok(Self { ambient, light })
+        desc.name = "forward light (additive, stencil == 0)";
+        let zero = StencilFace { compare: vk::CompareOp::EQUAL, write_mask: 0, ..StencilFace::KEEP };
+        desc.stencil = Some((zero, zero));
+        let light_stenciled = GraphicsPipeline::new(ctx, layout, &desc)?;
+        Ok(Self { ambient, light, light_stenciled })
     }
 
     /// Draws every object with the ambient pipeline (inside an open rendering pass).
@@ -67,7 +73,7 @@ impl Forward {
     }
 
     /// Draws every object lit by light `light`, whose shadow maps `shadow_set` binds (inside an
-    /// open rendering pass).
+    /// open rendering pass). With `stenciled`, only where the stencil holds 0 (shadow volumes).
     #[allow(clippy::too_many_arguments)]
     pub fn record_light<'a>(
         &'a self,
@@ -77,9 +83,15 @@ impl Forward {
         shadow_set: &'a DescriptorSet,
         scene: &Scene,
         light: u32,
+        stenciled: bool,
         log: &mut PassLog,
     ) {
-        rec.bind_pipeline(&self.light);
+        if stenciled {
+            rec.bind_pipeline(&self.light_stenciled);
+            rec.set_stencil_reference(0);
+        } else {
+            rec.bind_pipeline(&self.light);
+        }
         rec.bind_descriptor_set(layout, 1, shadow_set);
         draw_objects(rec, layout, gpu, scene, light, log);
     }

@@ -114,12 +114,13 @@ pub(crate) fn scene_set_layout(ctx: &Context) -> RenderResult<DescriptorSetLayou
 }
 
 impl GpuScene {
-    /// Uploads `scene` as seen with `aspect` (width / height), with each light's shadow-map
+    /// Uploads `scene` as seen by `camera` with `aspect` (width / height), with each light's shadow-map
     /// parameters (`shadows[i]` for light `i`) and every shadow view-projection.
     pub fn upload(
         ctx: &Context,
         layout: &DescriptorSetLayout,
         scene: &Scene,
+        camera: &umbra_scene::Camera,
         aspect: f32,
         shadows: &[GpuShadow],
         shadow_views: &[Mat4],
@@ -135,7 +136,7 @@ impl GpuScene {
             nonempty(bytemuck::cast_slice(&indices)),
         )?;
 
-        let c = &scene.camera;
+        let c = camera;
         let frame = FrameUniforms {
             view_proj: c.view_proj(aspect).to_cols_array(),
             camera_position: c.position.extend(1.0).to_array(),

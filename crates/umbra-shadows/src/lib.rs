@@ -17,11 +17,13 @@ pub mod plan;
 mod renderer;
 mod report;
 pub mod shadow_map;
+pub mod shadow_volume;
 mod timing;
 
 pub use error::{RenderError, RenderResult};
-pub use plan::{LightPlan, ShadowMapReport};
+pub use plan::{CasterMode, LightPlan, ShadowMapReport, ShadowVolumeReport};
 pub use renderer::{Frame, Renderer, RendererDesc, COLOR_FORMAT};
 pub use report::{FrameReport, SceneSummary};
 pub use shadow_map::{DepthBias, ShadowFilter, ShadowMapSettings};
+pub use shadow_volume::{FarPlane, ShadowVolumeSettings, VolumeMode};
 pub use timing::PassReport;

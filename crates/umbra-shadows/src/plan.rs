@@ -26,6 +26,8 @@ pub struct LightPlan {
     pub skipped_because: Option<String>,
     /// The shadow map rendered for it this frame, if any.
     pub shadow_map: Option<ShadowMapReport>,
+    /// Its shadow volumes this frame, if any.
+    pub shadow_volume: Option<ShadowVolumeReport>,
     /// What the renderer decided beyond the plan (e.g. a shadow map not needed this frame).
     pub note: Option<String>,
 }
@@ -45,8 +47,43 @@ pub struct ShadowMapReport {
     pub casters: usize,
 }
 
+/// A light's shadow volumes as built and counted in one frame.
+#[derive(Clone, Debug, Serialize)]
+pub struct ShadowVolumeReport {
+    /// Casters with a non-empty volume.
+    pub casters: usize,
+    /// Casters counted with z-pass.
+    pub zpass_casters: usize,
+    /// Casters counted with z-fail.
+    pub zfail_casters: usize,
+    /// Silhouette edges extruded (with multiplicity).
+    pub silhouette_edges: usize,
+    /// Volume triangles drawn (sides, plus caps for z-fail casters).
+    pub volume_triangles: usize,
+    /// CPU time to build every caster's volume (facing, silhouettes, caps).
+    pub cpu_build_ms: f64,
+    /// Rasterized volume fragments (from the overdraw pass's occlusion query), when the
+    /// renderer was built with `overdraw`.
+    pub volume_fragments: Option<u64>,
+    /// Per caster: object index, name and the mode it was counted with.
+    pub caster_modes: Vec<CasterMode>,
+}
+
+/// The counting mode one caster used.
+#[derive(Clone, Debug, Serialize)]
+pub struct CasterMode {
+    /// Object index.
+    pub object: usize,
+    /// Object name.
+    pub name: String,
+    /// `zpass` or `zfail`.
+    pub mode: &'static str,
+    /// Volume triangles drawn for it.
+    pub triangles: usize,
+}
+
 /// Techniques this build records (the others return [`RenderError::TechniqueUnavailable`]).
-pub const AVAILABLE_TECHNIQUES: &[Technique] = &[Technique::Unshadowed, Technique::ShadowMap];
+pub const AVAILABLE_TECHNIQUES: &[Technique] = &[Technique::Unshadowed, Technique::ShadowMap, Technique::ShadowVolume];
 
 /// Decides, per light, what to record.
 pub fn plan_lights(scene: &Scene) -> RenderResult<Vec<LightPlan>> {
@@ -73,6 +110,7 @@ pub fn plan_lights(scene: &Scene) -> RenderResult<Vec<LightPlan>> {
                 recorded: skip.is_none(),
                 skipped_because: skip.map(str::to_owned),
                 shadow_map: None,
+                shadow_volume: None,
                 note: None,
             })
         })

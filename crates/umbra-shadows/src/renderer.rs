@@ -5,8 +5,10 @@
 //!    views of the lights that use shadow maps (`shadow_map::frustum`);
 //! 2. upload: the scene's meshes, objects, lights, shadow views and camera (`gpu_scene`);
 //! 3. `ambient`: depth plus ambient term for every object;
-//! 4. per planned light: `shadow_map N` (its technique's passes, when it has any), then
-//!    `light N (kind)`, its additive lighting with the shadow test;
+//! 4. per planned light: its technique's passes (`shadow_map N`: depth from the light;
+//!    `shadow_volume N`: stencil counts), then `light N (kind)`, its additive lighting with
+//!    the shadow test (map lookup, or stencil == 0); with volume overdraw on, `volume overdraw
+//!    N` draws the light's volumes into the overdraw image;
 //! 5. `readback`: copy the colour target into a host-visible buffer.
 //!
 //! Every pass is a debug label with timestamps around it; the [`FrameReport`] lists them.
@@ -14,18 +16,24 @@
 use crate::forward::Forward;
 use crate::gpu_scene::{self, GpuScene, GpuShadow};
 use crate::plan::{plan_lights, ShadowMapReport};
+use crate::plan::{CasterMode, ShadowVolumeReport};
 use crate::report::{FrameReport, SceneSummary};
 use crate::shadow_map::frustum::{self, LightViews, MapKind};
 use crate::shadow_map::pass::{self, ShadowMapPass};
 use crate::shadow_map::ShadowMapSettings;
+use crate::shadow_volume::build::{self as volumes, Counting, LightVolumes};
+use crate::shadow_volume::pass::ShadowVolumePass;
+use crate::shadow_volume::{FarPlane, ShadowVolumeSettings};
 use crate::timing::{PassLog, PassTimer};
 use crate::{RenderError, RenderResult};
 use std::path::Path;
+use std::sync::Arc;
 use std::time::Instant;
+use umbra_scene::Adjacency;
 use umbra_scene::{Scene, Technique};
 use umbra_vk::{
     vk, Buffer, BufferDesc, ColorAttachment, Context, DepthAttachment, DescriptorSetLayout, Image, ImageDesc,
-    ImageState, PipelineLayout, RenderTargets,
+    ImageState, PipelineLayout, QueryKind, QueryPool, RenderTargets,
 };
 
 /// The colour target format: linear 8-bit RGBA (values are written as computed, no sRGB curve).
@@ -40,12 +48,14 @@ pub struct RendererDesc {
     pub height: u32,
     /// Shadow-map settings for lights whose technique is `shadow_map`.
     pub shadow_map: ShadowMapSettings,
+    /// Shadow-volume settings for lights whose technique is `shadow_volume`.
+    pub shadow_volume: ShadowVolumeSettings,
 }
 
 impl RendererDesc {
     /// A `width` × `height` target with default technique settings.
     pub fn new(width: u32, height: u32) -> Self {
-        Self { width, height, shadow_map: ShadowMapSettings::DEFAULT }
+        Self { width, height, shadow_map: ShadowMapSettings::DEFAULT, shadow_volume: ShadowVolumeSettings::default() }
     }
 }
 
@@ -60,6 +70,9 @@ pub struct Frame {
     pub rgba: Vec<u8>,
     /// What the frame did.
     pub report: FrameReport,
+    /// Volume overdraw (RGBA8, red = volume fragments per pixel, saturating at 255), when the
+    /// renderer was built with `shadow_volume.overdraw` and a light used shadow volumes.
+    pub overdraw: Option<Vec<u8>>,
 }
 
 impl Frame {
@@ -96,6 +109,32 @@ pub struct Renderer {
     layout: PipelineLayout,
     forward: Forward,
     shadow_map: ShadowMapPass,
+    shadow_volume: ShadowVolumePass,
+    /// Welded connectivity per mesh, kept while the mesh is unchanged.
+    adjacency: Vec<(MeshKey, Arc<Adjacency>)>,
+    /// Volume overdraw target and its readback (with `shadow_volume.overdraw`).
+    overdraw: Option<(Image, Buffer)>,
+}
+
+/// What identifies a mesh's geometry cheaply enough to check every frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct MeshKey {
+    vertices: usize,
+    indices: usize,
+    first: [u32; 3],
+    last: [u32; 3],
+}
+
+impl MeshKey {
+    fn of(m: &umbra_scene::Mesh) -> Self {
+        let bits = |p: Option<&glam::Vec3>| p.map_or([0; 3], |p| p.to_array().map(f32::to_bits));
+        Self {
+            vertices: m.positions.len(),
+            indices: m.indices.len(),
+            first: bits(m.positions.first()),
+            last: bits(m.positions.last()),
+        }
+    }
 }
 
 impl Renderer {
@@ -134,6 +173,26 @@ impl Renderer {
         let layout = PipelineLayout::new(ctx, "scene layout", &[&scene_set_layout, &shadow_set_layout], push)?;
         let forward = Forward::new(ctx, &layout, COLOR_FORMAT, depth_format, &desc.shadow_map)?;
         let shadow_map = ShadowMapPass::new(ctx, &layout, desc.shadow_map)?;
+        if desc.shadow_volume.far_plane == FarPlane::DepthClamp && !caps.depth_clamp {
+            return Err(ctx.unsupported("shadow volumes with FarPlane::DepthClamp (depthClamp)").into());
+        }
+        let shadow_volume = ShadowVolumePass::new(ctx, &layout, depth_format, &desc.shadow_volume)?;
+        let overdraw = if desc.shadow_volume.overdraw {
+            let image = Image::new(
+                ctx,
+                "volume overdraw",
+                ImageDesc::new_2d(COLOR_FORMAT, desc.width, desc.height)
+                    .usage(vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC),
+            )?;
+            let readback = Buffer::new(
+                ctx,
+                "overdraw readback",
+                BufferDesc::readback(4 * desc.width as u64 * desc.height as u64),
+            )?;
+            Some((image, readback))
+        } else {
+            None
+        };
         Ok(Self {
             ctx: ctx.clone(),
             desc,
@@ -145,6 +204,9 @@ impl Renderer {
             layout,
             forward,
             shadow_map,
+            shadow_volume,
+            adjacency: Vec::new(),
+            overdraw,
         })
     }
 
@@ -158,7 +220,15 @@ impl Renderer {
         let started = Instant::now();
         let mut lights = plan_lights(scene)?;
         let aspect = self.desc.width as f32 / self.desc.height as f32;
-        let camera = scene.camera.view_proj(aspect);
+        let volume_settings = self.desc.shadow_volume;
+        let uses_volumes = lights.iter().any(|l| l.recorded && l.technique == Technique::ShadowVolume);
+        // Shadow volumes reach infinity: the frame uses P_inf unless depth clamp does the job.
+        let camera_used = if uses_volumes {
+            volumes::volume_camera(&scene.camera, volume_settings.far_plane == FarPlane::Infinite)
+        } else {
+            scene.camera
+        };
+        let camera = camera_used.view_proj(aspect);
 
         // Shadow maps: fit each light's views, size its map, and note what the GPU reads.
         let settings = *self.shadow_map.settings();
@@ -191,7 +261,41 @@ impl Renderer {
             shadow_views.extend_from_slice(&views.views);
             fitted[plan.light] = Some(views);
         }
-        let gpu = GpuScene::upload(&self.ctx, &self.scene_set_layout, scene, aspect, &shadows, &shadow_views)?;
+        // Shadow volumes: every caster's volume per light, built on the CPU.
+        let mut built: Vec<Option<LightVolumes>> = vec![None; scene.lights.len()];
+        let mut volume_vertices = Vec::new();
+        if uses_volumes {
+            self.update_adjacency(scene);
+            let adjacency: Vec<Arc<Adjacency>> = self.adjacency.iter().map(|(_, a)| Arc::clone(a)).collect();
+            for plan in lights.iter_mut().filter(|l| l.recorded && l.technique == Technique::ShadowVolume) {
+                let light = &scene.lights[plan.light];
+                let v = volumes::build_light(
+                    scene,
+                    &adjacency,
+                    light,
+                    &camera_used,
+                    aspect,
+                    volume_settings.mode,
+                    &mut volume_vertices,
+                );
+                plan.shadow_volume = Some(volume_report(scene, &v));
+                built[plan.light] = Some(v);
+            }
+        }
+        let volume_buffer = if volume_vertices.is_empty() {
+            None
+        } else {
+            let bytes: &[u8] = bytemuck::cast_slice(&volume_vertices);
+            Some(Buffer::with_data(&self.ctx, "shadow volume vertices", vk::BufferUsageFlags::VERTEX_BUFFER, bytes)?)
+        };
+        let volume_lights = built.iter().flatten().count() as u32;
+        let fragment_queries = match (&self.overdraw, volume_lights) {
+            (Some(_), n) if n > 0 => Some(QueryPool::new(&self.ctx, "volume fragments", QueryKind::Occlusion, n)?),
+            _ => None,
+        };
+
+        let gpu =
+            GpuScene::upload(&self.ctx, &self.scene_set_layout, scene, &camera_used, aspect, &shadows, &shadow_views)?;
         let shadow_sets = lights
             .iter()
             .filter(|l| l.recorded)
@@ -205,10 +309,14 @@ impl Renderer {
         self.readback.write(0, &poison)?;
 
         let planned = lights.iter().filter(|l| l.recorded).count();
-        let timer = PassTimer::new(&self.ctx, 2 + planned + fitted.iter().flatten().count())?;
+        let passes = 2 + planned + fitted.iter().flatten().count() + 2 * volume_lights as usize;
+        let timer = PassTimer::new(&self.ctx, passes)?;
         let mut log = PassLog::default();
         let mut rec = self.ctx.begin_commands("frame")?;
         timer.reset(&mut rec);
+        if let Some(q) = &fragment_queries {
+            rec.reset_queries(q);
+        }
         rec.transition(&[
             (&self.color, ImageState::Undefined, ImageState::ColorAttachment),
             (&self.depth, ImageState::Undefined, ImageState::DepthStencilAttachment),
@@ -219,18 +327,40 @@ impl Renderer {
         let clear_color = [ColorAttachment { image: &self.color, clear: Some([bg.x, bg.y, bg.z, 1.0]) }];
         rec.begin_rendering(&RenderTargets {
             color: &clear_color,
-            depth: Some(DepthAttachment { image: &self.depth, view: None, clear: Some((1.0, 0)), read_only: false }),
+            depth: Some(DepthAttachment {
+                image: &self.depth,
+                view: None,
+                clear: Some((1.0, 0)),
+                clear_stencil: None,
+                read_only: false,
+            }),
         });
         self.forward.record_ambient(&mut rec, &self.layout, &gpu, scene, &mut log);
         rec.end_rendering();
         timer.end(&mut rec, &log);
 
         let load_color = [ColorAttachment { image: &self.color, clear: None }];
+        let keep_depth = |clear_stencil| DepthAttachment {
+            image: &self.depth,
+            view: None,
+            clear: None,
+            clear_stencil,
+            read_only: false,
+        };
+        let mut overdraw_query = 0;
         for (plan, shadow_set) in lights.iter().filter(|l| l.recorded).zip(&shadow_sets) {
             if let Some(views) = &fitted[plan.light] {
                 timer.begin(&mut rec, &mut log, format!("shadow_map {}", plan.light), Some(plan.light));
                 let first_view = shadows[plan.light].first_view;
                 self.shadow_map.record(&mut rec, &self.layout, &gpu, scene, plan.light, views, first_view, &mut log)?;
+                timer.end(&mut rec, &log);
+            }
+            let volumes = built[plan.light].as_ref().zip(volume_buffer.as_ref());
+            if let Some((v, buffer)) = volumes {
+                timer.begin(&mut rec, &mut log, format!("shadow_volume {}", plan.light), Some(plan.light));
+                rec.begin_rendering(&RenderTargets { color: &[], depth: Some(keep_depth(Some(0))) });
+                self.shadow_volume.record_stencil(&mut rec, &self.layout, &gpu, buffer, v, plan.light as u32, &mut log);
+                rec.end_rendering();
                 timer.end(&mut rec, &log);
             }
             timer.begin(
@@ -239,13 +369,38 @@ impl Renderer {
                 format!("light {} ({:?})", plan.light, plan.kind).to_lowercase(),
                 Some(plan.light),
             );
-            rec.begin_rendering(&RenderTargets {
-                color: &load_color,
-                depth: Some(DepthAttachment { image: &self.depth, view: None, clear: None, read_only: false }),
-            });
-            self.forward.record_light(&mut rec, &self.layout, &gpu, shadow_set, scene, plan.light as u32, &mut log);
+            rec.begin_rendering(&RenderTargets { color: &load_color, depth: Some(keep_depth(None)) });
+            let stenciled = built[plan.light].is_some();
+            self.forward.record_light(
+                &mut rec,
+                &self.layout,
+                &gpu,
+                shadow_set,
+                scene,
+                plan.light as u32,
+                stenciled,
+                &mut log,
+            );
             rec.end_rendering();
             timer.end(&mut rec, &log);
+            if let (Some((v, buffer)), Some((image, _)), Some(q)) = (volumes, &self.overdraw, &fragment_queries) {
+                timer.begin(&mut rec, &mut log, format!("volume overdraw {}", plan.light), Some(plan.light));
+                if overdraw_query == 0 {
+                    rec.transition(&[(image, ImageState::Undefined, ImageState::ColorAttachment)]);
+                }
+                let clear = (overdraw_query == 0).then_some([0.0; 4]);
+                rec.begin_rendering(&RenderTargets { color: &[ColorAttachment { image, clear }], depth: None });
+                rec.begin_query(q, overdraw_query);
+                self.shadow_volume.record_overdraw(&mut rec, &self.layout, &gpu, buffer, v, plan.light as u32);
+                rec.end_query(q, overdraw_query);
+                rec.end_rendering();
+                timer.end(&mut rec, &log);
+                overdraw_query += 1;
+            }
+        }
+        if let (Some((image, readback)), true) = (&self.overdraw, overdraw_query > 0) {
+            rec.transition(&[(image, ImageState::ColorAttachment, ImageState::TransferSrc)]);
+            rec.copy_image_to_buffer(image, 0, readback);
         }
 
         timer.begin(&mut rec, &mut log, "readback".into(), None);
@@ -256,6 +411,19 @@ impl Renderer {
 
         let passes = timer.finish(log)?;
         let rgba = self.readback.read()?;
+        let overdraw = match (&self.overdraw, overdraw_query > 0) {
+            (Some((_, readback)), true) => Some(readback.read()?),
+            _ => None,
+        };
+        if let Some(q) = &fragment_queries {
+            let counts = q.results()?;
+            let with_volumes = lights.iter_mut().filter(|l| l.shadow_volume.is_some());
+            for (plan, count) in with_volumes.zip(counts) {
+                if let Some(r) = plan.shadow_volume.as_mut() {
+                    r.volume_fragments = Some(count);
+                }
+            }
+        }
         let caps = self.ctx.capabilities();
         let total_gpu_ms = passes.iter().map(|p| p.gpu_ms).sum::<Option<f64>>();
         let report = FrameReport {
@@ -266,11 +434,57 @@ impl Renderer {
             width: self.desc.width,
             height: self.desc.height,
             shadow_map_settings: settings,
+            shadow_volume_settings: volume_settings,
             lights,
             passes,
             total_gpu_ms,
             cpu_frame_ms: started.elapsed().as_secs_f64() * 1e3,
         };
-        Ok(Frame { width: self.desc.width, height: self.desc.height, rgba, report })
+        Ok(Frame { width: self.desc.width, height: self.desc.height, rgba, report, overdraw })
+    }
+}
+
+impl Renderer {
+    /// Rebuilds the welded connectivity of every mesh whose geometry changed.
+    fn update_adjacency(&mut self, scene: &Scene) {
+        self.adjacency.truncate(scene.meshes.len());
+        for (i, mesh) in scene.meshes.iter().enumerate() {
+            let key = MeshKey::of(mesh);
+            match self.adjacency.get(i) {
+                Some((k, _)) if *k == key => {}
+                _ => {
+                    let entry = (key, Arc::new(Adjacency::build(mesh)));
+                    if i < self.adjacency.len() {
+                        self.adjacency[i] = entry;
+                    } else {
+                        self.adjacency.push(entry);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The report of one light's volumes.
+fn volume_report(scene: &Scene, v: &LightVolumes) -> ShadowVolumeReport {
+    let mode = |c: Counting| if c == Counting::ZPass { "zpass" } else { "zfail" };
+    ShadowVolumeReport {
+        casters: v.casters.len(),
+        zpass_casters: v.casters.iter().filter(|c| c.counting == Counting::ZPass).count(),
+        zfail_casters: v.casters.iter().filter(|c| c.counting == Counting::ZFail).count(),
+        silhouette_edges: v.casters.iter().map(|c| c.stats.silhouette_edges).sum(),
+        volume_triangles: v.casters.iter().map(|c| c.count as usize / 3).sum(),
+        cpu_build_ms: v.cpu_ms,
+        volume_fragments: None,
+        caster_modes: v
+            .casters
+            .iter()
+            .map(|c| CasterMode {
+                object: c.object,
+                name: scene.objects.get(c.object).map(|o| o.name.clone()).unwrap_or_default(),
+                mode: mode(c.counting),
+                triangles: c.count as usize / 3,
+            })
+            .collect(),
     }
 }

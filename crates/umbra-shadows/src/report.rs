@@ -2,6 +2,7 @@
 
 use crate::plan::LightPlan;
 use crate::shadow_map::ShadowMapSettings;
+use crate::shadow_volume::ShadowVolumeSettings;
 use crate::timing::PassReport;
 use serde::Serialize;
 use umbra_scene::Scene;
@@ -52,6 +53,8 @@ pub struct FrameReport {
     pub height: u32,
     /// Shadow-map settings the renderer was built with.
     pub shadow_map_settings: ShadowMapSettings,
+    /// Shadow-volume settings the renderer was built with.
+    pub shadow_volume_settings: ShadowVolumeSettings,
     /// Per light: technique and whether its passes were recorded (and why not).
     pub lights: Vec<LightPlan>,
     /// Every recorded pass, in order, with its GPU time.

@@ -34,6 +34,9 @@ pub struct DepthAttachment<'a> {
     pub view: Option<&'a ImageView>,
     /// Clear depth and stencil at the start, or keep them (`None`).
     pub clear: Option<(f32, u32)>,
+    /// With `clear == None`: keep the depth but clear the stencil to this value (one shadow
+    /// volume pass per light).
+    pub clear_stencil: Option<u32>,
     /// Tested but never written: the image is in [`ImageState::DepthStencilReadOnly`].
     pub read_only: bool,
 }
@@ -211,19 +214,24 @@ impl<'a> Recorder<'a> {
                     .clear_value(vk::ClearValue { color: vk::ClearColorValue { float32: c.clear.unwrap_or_default() } })
             })
             .collect();
-        let depth = targets.depth.map(|d| {
+        let attachment = |d: &DepthAttachment<'a>, clear: bool, stencil: u32| {
             let (layout, store) = if d.read_only {
                 (vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL, vk::AttachmentStoreOp::NONE)
             } else {
                 (vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL, vk::AttachmentStoreOp::STORE)
             };
-            let (depth, stencil) = d.clear.unwrap_or((1.0, 0));
+            let depth = d.clear.map_or(1.0, |c| c.0);
             vk::RenderingAttachmentInfo::default()
                 .image_view(d.view.map_or(d.image.view, |v| v.raw))
                 .image_layout(layout)
-                .load_op(if d.clear.is_some() { vk::AttachmentLoadOp::CLEAR } else { vk::AttachmentLoadOp::LOAD })
+                .load_op(if clear { vk::AttachmentLoadOp::CLEAR } else { vk::AttachmentLoadOp::LOAD })
                 .store_op(store)
                 .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth, stencil } })
+        };
+        let depth = targets.depth.map(|d| attachment(&d, d.clear.is_some(), d.clear.map_or(0, |c| c.1)));
+        let stencil = targets.depth.map(|d| {
+            let stencil_clear = d.clear.map(|c| c.1).or(d.clear_stencil);
+            attachment(&d, stencil_clear.is_some(), stencil_clear.unwrap_or(0))
         });
         let has_stencil =
             targets.depth.is_some_and(|d| format_aspect(d.image.desc.format).contains(vk::ImageAspectFlags::STENCIL));
@@ -233,9 +241,9 @@ impl<'a> Recorder<'a> {
             .color_attachments(&color);
         if let Some(d) = depth.as_ref() {
             info = info.depth_attachment(d);
-            if has_stencil {
-                info = info.stencil_attachment(d);
-            }
+        }
+        if let (true, Some(s)) = (has_stencil, stencil.as_ref()) {
+            info = info.stencil_attachment(s);
         }
         // SAFETY: attachments are alive for 'a and in the layouts named (callers transition).
         unsafe { self.device().cmd_begin_rendering(self.cmd, &info) };
@@ -304,8 +312,13 @@ impl<'a> Recorder<'a> {
 
     /// Draws `count` vertices without an index buffer.
     pub fn draw(&mut self, count: u32) {
+        self.draw_range(count, 0);
+    }
+
+    /// Draws `count` vertices starting at vertex `first` of the bound vertex buffer.
+    pub fn draw_range(&mut self, count: u32, first: u32) {
         // SAFETY: recording inside a rendering pass with a bound pipeline.
-        unsafe { self.device().cmd_draw(self.cmd, count, 1, 0, 0) };
+        unsafe { self.device().cmd_draw(self.cmd, count, 1, first, 0) };
     }
 
     /// Draws `count` indices from `first_index`, adding `vertex_offset` to each.

@@ -158,6 +158,7 @@ impl ShadowMapPass {
                     image: &target.image,
                     view: target.faces.get(layer),
                     clear: Some((1.0, 0)),
+                    clear_stencil: None,
                     read_only: false,
                 }),
             });

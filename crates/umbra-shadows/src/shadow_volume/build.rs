@@ -1,0 +1,183 @@
+//! Per light, on the CPU: every caster's volume (in parallel) and the counting mode each one
+//! uses (§3.4).
+
+use super::settings::VolumeMode;
+use glam::{Mat4, Vec3, Vec4, Vec4Swizzles};
+use rayon::prelude::*;
+use std::sync::Arc;
+use umbra_scene::{Aabb, Adjacency, Camera, Light, Scene, Volume, VolumeStats};
+
+/// Counting mode chosen for one caster.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Counting {
+    ZPass,
+    ZFail,
+}
+
+/// One caster's volume, as a range of the frame's volume vertices.
+#[derive(Clone, Debug)]
+pub(crate) struct CasterVolume {
+    pub object: usize,
+    pub counting: Counting,
+    pub first: u32,
+    pub count: u32,
+    pub stats: VolumeStats,
+}
+
+/// Every caster's volume for one light.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct LightVolumes {
+    pub casters: Vec<CasterVolume>,
+    pub cpu_ms: f64,
+}
+
+/// Builds the volumes of `light` for every caster of `scene`, appending their vertices to
+/// `vertices`. `adjacency[i]` is mesh `i`'s welded connectivity.
+pub(crate) fn build_light(
+    scene: &Scene,
+    adjacency: &[Arc<Adjacency>],
+    light: &Light,
+    camera: &Camera,
+    aspect: f32,
+    mode: VolumeMode,
+    vertices: &mut Vec<Vec4>,
+) -> LightVolumes {
+    let started = std::time::Instant::now();
+    let near_region = NearRegion::new(camera, aspect, light.position);
+    let built: Vec<(usize, Counting, Vec<Vec4>, VolumeStats)> = scene
+        .objects
+        .par_iter()
+        .enumerate()
+        .filter(|(_, o)| o.casts_shadows)
+        .filter_map(|(i, o)| {
+            let adj = adjacency.get(o.mesh)?;
+            let mesh = scene.meshes.get(o.mesh)?;
+            // The light in the caster's object space: facing is decided there.
+            let local = o.transform.inverse() * light.position;
+            let volume = Volume::build(adj, local);
+            let counting = match mode {
+                VolumeMode::ZPass => Counting::ZPass,
+                VolumeMode::ZFail => Counting::ZFail,
+                VolumeMode::Auto => {
+                    if near_region.may_touch(&mesh.bounds().transformed(&o.transform)) {
+                        Counting::ZFail
+                    } else {
+                        Counting::ZPass
+                    }
+                }
+            };
+            let verts = volume.vertices(adj, counting == Counting::ZFail);
+            Some((i, counting, verts, volume.stats))
+        })
+        .collect();
+    let mut casters = Vec::with_capacity(built.len());
+    for (object, counting, verts, stats) in built {
+        if verts.is_empty() {
+            continue;
+        }
+        casters.push(CasterVolume { object, counting, first: vertices.len() as u32, count: verts.len() as u32, stats });
+        vertices.extend(verts);
+    }
+    LightVolumes { casters, cpu_ms: started.elapsed().as_secs_f64() * 1e3 }
+}
+
+/// The near-plane clip region of §3.4: the convex hull of the camera's near rectangle and the
+/// light (a point light), or the near rectangle swept towards a directional light. A caster
+/// whose volume can reach the near rectangle must lie in it; a caster outside it may use
+/// z-pass. The test is conservative (face planes of the region only): when unsure, z-fail.
+struct NearRegion {
+    /// Outward planes (normal, offset): a point p is outside when n·p + d > 0.
+    planes: Vec<Vec4>,
+}
+
+impl NearRegion {
+    fn new(camera: &Camera, aspect: f32, light: Vec4) -> Self {
+        let inv = camera.view_proj(aspect).inverse();
+        let corners: Vec<Vec3> = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+            .iter()
+            .map(|&(x, y)| inv.project_point3(Vec3::new(x, y, 0.0)))
+            .collect();
+        let centre = corners.iter().sum::<Vec3>() / 4.0;
+        // A point well inside the region, to orient the planes outward.
+        let inside = if light.w == 0.0 {
+            centre + light.xyz().normalize() * 0.5
+        } else {
+            centre * 0.75 + light.xyz() / light.w * 0.25
+        };
+        let mut planes = Vec::new();
+        let mut add = |n: Vec3, p: Vec3| {
+            if n.length_squared() < 1e-12 {
+                return false;
+            }
+            let n = n.normalize();
+            let mut pl = n.extend(-n.dot(p));
+            if pl.xyz().dot(inside) + pl.w > 0.0 {
+                pl = -pl;
+            }
+            planes.push(pl);
+            true
+        };
+        let ok = add((corners[1] - corners[0]).cross(corners[3] - corners[0]), corners[0])
+            && (0..4).all(|k| {
+                let (a, b) = (corners[k], corners[(k + 1) % 4]);
+                let towards = if light.w == 0.0 { light.xyz() } else { light.xyz() / light.w - a };
+                add((b - a).cross(towards), a)
+            });
+        if !ok {
+            planes.clear(); // degenerate (light on the near plane): no separating plane known
+        }
+        Self { planes }
+    }
+
+    /// Whether the box may intersect the region (false: certainly not).
+    fn may_touch(&self, b: &Aabb) -> bool {
+        if self.planes.is_empty() {
+            return true;
+        }
+        !self.planes.iter().any(|pl| {
+            // The box corner farthest against the outward normal: if even it is outside, the
+            // whole box is.
+            let n = pl.xyz();
+            let nearest = Vec3::select(n.cmpge(Vec3::ZERO), b.min, b.max);
+            n.dot(nearest) + pl.w > 0.0
+        })
+    }
+}
+
+/// The camera a frame with shadow volumes renders with: the scene's, with the far plane at
+/// infinity unless depth clamp is used.
+pub(crate) fn volume_camera(camera: &Camera, infinite: bool) -> Camera {
+    if infinite {
+        Camera { far: None, ..*camera }
+    } else {
+        *camera
+    }
+}
+
+/// Model matrices never change a volume's topology; exposed for tests of the mode choice.
+#[allow(dead_code)]
+pub(crate) fn touches_near_region(camera: &Camera, aspect: f32, light: Vec4, bounds: &Aabb, transform: Mat4) -> bool {
+    NearRegion::new(camera, aspect, light).may_touch(&bounds.transformed(&transform))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn casters_between_the_eye_and_the_light_need_z_fail() {
+        let cam = Camera::look_at(Vec3::new(0.0, 1.0, 5.0), Vec3::ZERO);
+        let light = Vec4::new(0.0, 1.0, 15.0, 1.0); // behind the eye
+        let unit = Aabb { min: Vec3::splat(-0.5), max: Vec3::splat(0.5) };
+        // Right between the near plane and the light: its volume covers the eye.
+        assert!(touches_near_region(&cam, 1.0, light, &unit, Mat4::from_translation(Vec3::new(0.0, 1.0, 10.0))));
+        // In front of the camera, away from the light: its volume goes away from the eye.
+        assert!(!touches_near_region(&cam, 1.0, light, &unit, Mat4::IDENTITY));
+        // Off to the side, far from the eye–light segment.
+        assert!(!touches_near_region(&cam, 1.0, light, &unit, Mat4::from_translation(Vec3::new(8.0, 1.0, 10.0))));
+        // Directional light from behind the eye: anything behind the eye may shadow it.
+        let dir = Vec4::new(0.0, 0.0, 1.0, 0.0);
+        assert!(touches_near_region(&cam, 1.0, dir, &unit, Mat4::from_translation(Vec3::new(0.0, 1.0, 30.0))));
+        assert!(!touches_near_region(&cam, 1.0, dir, &unit, Mat4::IDENTITY));
+    }
+}

@@ -1,0 +1,126 @@
+//! The stencil pass (Everitt–Kilgard §2.1): each caster's volume drawn once with two-sided
+//! stencil and wrap ops, colour and depth writes off, then (optionally) the overdraw image.
+
+use super::build::{Counting, LightVolumes};
+use super::settings::{FarPlane, ShadowVolumeSettings};
+use crate::gpu_scene::{DrawPush, GpuScene};
+use crate::timing::PassLog;
+use crate::RenderResult;
+use umbra_vk::{
+    vk, Blend, Buffer, ColorTarget, Context, DepthState, GraphicsPipeline, GraphicsPipelineDesc, PipelineLayout,
+    Recorder, StencilFace, VertexAttribute,
+};
+
+/// Volume vertices are `vec4`: object-space xyz, w = 0 for vertices at infinity.
+const VOLUME_ATTRIBUTES: [VertexAttribute; 1] =
+    [VertexAttribute { location: 0, format: vk::Format::R32G32B32A32_SFLOAT, offset: 0 }];
+const VOLUME_STRIDE: u32 = 16;
+
+/// Stencil ops of one face: `op` on `when` (pass or depth-fail), KEEP otherwise.
+fn face(op: vk::StencilOp, on_depth_fail: bool) -> StencilFace {
+    StencilFace {
+        pass: if on_depth_fail { vk::StencilOp::KEEP } else { op },
+        depth_fail: if on_depth_fail { op } else { vk::StencilOp::KEEP },
+        ..StencilFace::KEEP
+    }
+}
+
+/// Pipelines of the shadow-volume technique.
+pub(crate) struct ShadowVolumePass {
+    zfail: GraphicsPipeline,
+    zpass: GraphicsPipeline,
+    overdraw: Option<GraphicsPipeline>,
+}
+
+impl ShadowVolumePass {
+    /// Builds the counting pipelines (and the overdraw one when asked) against `layout`.
+    pub fn new(
+        ctx: &Context,
+        layout: &PipelineLayout,
+        depth_format: vk::Format,
+        settings: &ShadowVolumeSettings,
+    ) -> RenderResult<Self> {
+        let clamp = settings.far_plane == FarPlane::DepthClamp;
+        let mut desc = GraphicsPipelineDesc::new("shadow volume z-fail", umbra_shaders::shadow_volume::EXTRUDE_VERT);
+        desc.vertex_stride = VOLUME_STRIDE;
+        desc.vertex_attributes = &VOLUME_ATTRIBUTES;
+        desc.cull = vk::CullModeFlags::NONE;
+        desc.depth_format = depth_format;
+        // Test against the scene's depth, never write it; LESS, so a front cap lying on its
+        // caster's surface fails the test and counts as behind it (z-fail).
+        desc.depth = DepthState { test: true, write: false, compare: vk::CompareOp::LESS, clamp, ..DepthState::NONE };
+        // Two-sided stencil in one draw: z-fail decrements on front faces and increments on
+        // back faces where the depth test fails; *_AND_WRAP because counts interleave.
+        desc.stencil =
+            Some((face(vk::StencilOp::DECREMENT_AND_WRAP, true), face(vk::StencilOp::INCREMENT_AND_WRAP, true)));
+        let zfail = GraphicsPipeline::new(ctx, layout, &desc)?;
+        desc.name = "shadow volume z-pass";
+        // z-pass: front faces increment, back faces decrement where the depth test passes.
+        desc.stencil =
+            Some((face(vk::StencilOp::INCREMENT_AND_WRAP, false), face(vk::StencilOp::DECREMENT_AND_WRAP, false)));
+        let zpass = GraphicsPipeline::new(ctx, layout, &desc)?;
+        let overdraw = if settings.overdraw {
+            desc.name = "shadow volume overdraw";
+            desc.fragment = Some(umbra_shaders::shadow_volume::OVERDRAW_FRAG);
+            desc.stencil = None;
+            desc.depth = DepthState { clamp, ..DepthState::NONE };
+            desc.depth_format = vk::Format::UNDEFINED;
+            let additive = [ColorTarget { blend: Some(Blend::ADDITIVE), ..ColorTarget::opaque(crate::COLOR_FORMAT) }];
+            desc.color_targets = &additive;
+            Some(GraphicsPipeline::new(ctx, layout, &desc)?)
+        } else {
+            None
+        };
+        Ok(Self { zfail, zpass, overdraw })
+    }
+
+    /// Records light `light`'s volumes into the stencil buffer (inside a rendering pass with
+    /// the scene's depth loaded and the stencil cleared to 0).
+    pub fn record_stencil<'a>(
+        &'a self,
+        rec: &mut Recorder<'a>,
+        layout: &'a PipelineLayout,
+        gpu: &'a GpuScene,
+        vertices: &'a Buffer,
+        volumes: &LightVolumes,
+        light: u32,
+        log: &mut PassLog,
+    ) {
+        rec.bind_descriptor_set(layout, 0, &gpu.set);
+        rec.bind_vertex_buffer(vertices);
+        for counting in [Counting::ZFail, Counting::ZPass] {
+            let casters: Vec<_> = volumes.casters.iter().filter(|c| c.counting == counting).collect();
+            if casters.is_empty() {
+                continue;
+            }
+            rec.bind_pipeline(if counting == Counting::ZFail { &self.zfail } else { &self.zpass });
+            rec.set_stencil_reference(0);
+            for c in casters {
+                rec.push_constants(layout, &DrawPush { object: c.object as u32, view: light });
+                rec.draw_range(c.count, c.first);
+                log.count_draw(u64::from(c.count / 3));
+            }
+        }
+    }
+
+    /// Records the overdraw image's draws for light `light` (inside a rendering pass over the
+    /// overdraw target), when built with `overdraw`.
+    pub fn record_overdraw<'a>(
+        &'a self,
+        rec: &mut Recorder<'a>,
+        layout: &'a PipelineLayout,
+        gpu: &'a GpuScene,
+        vertices: &'a Buffer,
+        volumes: &LightVolumes,
+        light: u32,
+    ) {
+        let Some(p) = &self.overdraw else { return };
+        rec.bind_pipeline(p);
+        rec.bind_descriptor_set(layout, 0, &gpu.set);
+        rec.bind_vertex_buffer(vertices);
+        for c in &volumes.casters {
+            rec.push_constants(layout, &DrawPush { object: c.object as u32, view: light });
+            rec.draw_range(c.count, c.first);
+        }
+    }
+}
