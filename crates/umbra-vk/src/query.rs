@@ -53,7 +53,18 @@ impl QueryPool {
 
     /// Every query's 64-bit result, waiting for them to be available.
     pub fn results(&self) -> VkResult<Vec<u64>> {
-        let mut data = vec![0u64; self.count as usize];
+        self.first_results(self.count)
+    }
+
+    /// The results of the first `count` queries (those a recording wrote), waiting for them.
+    pub fn first_results(&self, count: u32) -> VkResult<Vec<u64>> {
+        if count == 0 || count > self.count {
+            return Err(VkError::InvalidDesc {
+                what: "query results",
+                why: format!("{count} of a pool of {} queries", self.count),
+            });
+        }
+        let mut data = vec![0u64; count as usize];
         // SAFETY: `data` holds one u64 per query (each kind here yields one value).
         unsafe {
             self.ctx.inner.device.get_query_pool_results(

@@ -1,0 +1,205 @@
+//! Robust stenciled shadow volumes against an exact CPU reference (ray casting the scene's
+//! triangles), on closed meshes and in the hard cases of Everitt–Kilgard.
+
+mod common;
+
+use common::bvh::Bvh;
+use common::raycast::pixel_ray;
+use glam::{Mat4, Vec3, Vec4};
+use umbra::scene::{primitives, Camera, Light, Scene, Technique};
+use umbra::shadows::{FarPlane, Frame, Renderer, RendererDesc, ShadowVolumeSettings, VolumeMode};
+use umbra::vk::Context;
+
+/// The exact state of a pixel: `Some(shadowed)` for a surface that faces the light, `None`
+/// for background, surfaces facing away, and pixels whose centre lies within 0.5 px of a
+/// shadow or silhouette edge (a corner of the pixel sees something else).
+struct Reference {
+    all: Bvh,
+    casters: Bvh,
+    light: Vec4,
+}
+
+impl Reference {
+    fn new(scene: &Scene) -> Self {
+        Self { all: Bvh::of_scene(scene, false), casters: Bvh::of_scene(scene, true), light: scene.lights[0].position }
+    }
+
+    /// (object seen, facing the light, shadowed) along one camera ray.
+    fn sample(&self, o: Vec3, d: Vec3) -> Option<(usize, bool, bool)> {
+        let hit = self.all.cast(o, d, 0.0, f32::INFINITY, None)?;
+        let tri = self.all.tri(hit.tri);
+        let p = o + d * hit.t;
+        let mut n = (tri.v[1] - tri.v[0]).cross(tri.v[2] - tri.v[0]).normalize();
+        if n.dot(d) > 0.0 {
+            n = -n; // two-sided lighting: the side the camera sees
+        }
+        let to_light = self.light.truncate() - p * self.light.w;
+        let facing = n.dot(to_light) > 1e-6;
+        let shadowed = facing && self.casters.shadowed(p + n * 1e-4, self.light, None);
+        Some((tri.object, facing, shadowed))
+    }
+
+    fn pixel(&self, view_proj: Mat4, w: u32, h: u32, x: u32, y: u32) -> Option<bool> {
+        let (o, d) = pixel_ray(view_proj, w, h, x, y);
+        let centre = self.sample(o, d)?;
+        if !centre.1 {
+            return None;
+        }
+        let inv = view_proj.inverse();
+        for (dx, dy) in [(-0.5, -0.5), (0.5, -0.5), (-0.5, 0.5), (0.5, 0.5)] {
+            let ndc_x = (x as f32 + 0.5 + dx) / w as f32 * 2.0 - 1.0;
+            let ndc_y = 1.0 - (y as f32 + 0.5 + dy) / h as f32 * 2.0;
+            let near = inv.project_point3(Vec3::new(ndc_x, ndc_y, 0.0));
+            let far = inv.project_point3(Vec3::new(ndc_x, ndc_y, 0.5));
+            if self.sample(near, (far - near).normalize()) != Some(centre) {
+                return None;
+            }
+        }
+        Some(centre.2)
+    }
+}
+
+fn render(ctx: &Context, scene: &Scene, mode: VolumeMode, far_plane: FarPlane) -> (Frame, Frame) {
+    let mut desc = RendererDesc::new(common::SIZE.0, common::SIZE.1);
+    desc.shadow_volume = ShadowVolumeSettings { mode, far_plane, overdraw: false };
+    let mut r = Renderer::new(ctx, desc).unwrap();
+    let mut s = scene.clone();
+    for l in &mut s.lights {
+        l.technique = Technique::ShadowVolume;
+    }
+    let shadowed = r.render(&s).unwrap();
+    for l in &mut s.lights {
+        l.technique = Technique::Unshadowed;
+    }
+    let plain = r.render(&s).unwrap();
+    (shadowed, plain)
+}
+
+/// (pixels compared, of which shadowed, wrong) for a frame against the reference.
+fn compare(scene: &Scene, reference: &Reference, shadowed: &Frame, plain: &Frame) -> (usize, usize, usize) {
+    let (w, h) = common::SIZE;
+    // The renderer used P_inf, but the rays are the same for any far plane.
+    let vp = scene.camera.view_proj(w as f32 / h as f32);
+    let (mut compared, mut in_shadow, mut wrong) = (0, 0, 0);
+    for y in 0..h {
+        for x in 0..w {
+            let Some(expected) = reference.pixel(vp, w, h, x, y) else { continue };
+            let lit_value = plain.pixel(x, y).iter().take(3).copied().max().unwrap_or(0);
+            if lit_value < 8 {
+                continue; // too dim to tell lit from shadowed
+            }
+            let value = shadowed.pixel(x, y).iter().take(3).copied().max().unwrap_or(0);
+            let rendered = u16::from(value) + 3 < u16::from(lit_value);
+            compared += 1;
+            in_shadow += usize::from(expected);
+            wrong += usize::from(rendered != expected);
+        }
+    }
+    (compared, in_shadow, wrong)
+}
+
+fn no_ambient(mut s: Scene) -> Scene {
+    s.ambient = Vec3::ZERO;
+    s
+}
+
+/// A shared asset standing on a floor under a point light.
+fn asset_scene(file: &str) -> Scene {
+    let imported = umbra::scene::import_gltf(&common::assets().join(file)).unwrap();
+    let mut s = Scene::new(file);
+    let floor = s.add_mesh(primitives::cuboid(Vec3::new(5.0, 0.05, 5.0)));
+    s.add_object(floor, Mat4::from_translation(Vec3::new(0.0, -0.05, 0.0)), Vec3::splat(0.8));
+    let mesh = imported.meshes[0].clone();
+    let b = mesh.bounds();
+    let scale = 2.0 / (b.max - b.min).max_element();
+    let lift = Vec3::new(-b.center().x * scale, -b.min.y * scale + 0.3, -b.center().z * scale);
+    let id = s.add_mesh(mesh);
+    s.add_object(id, Mat4::from_translation(lift) * Mat4::from_scale(Vec3::splat(scale)), Vec3::new(0.8, 0.6, 0.4));
+    s.lights.push(Light::point(Vec3::new(2.0, 5.0, 1.5), 30.0));
+    s.camera = Camera::look_at(Vec3::new(-3.0, 3.0, 4.0), Vec3::new(0.0, 0.8, 0.0));
+    s
+}
+
+#[test]
+fn closed_meshes_match_the_exact_reference_outside_the_half_pixel_band() {
+    let scenes = [
+        no_ambient(umbra::scene::load("cubes").unwrap()),
+        no_ambient(asset_scene("spot.glb")),
+        no_ambient(asset_scene("fandisk.glb")),
+    ];
+    common::with_context(|ctx| {
+        for scene in &scenes {
+            let reference = Reference::new(scene);
+            for mode in [VolumeMode::ZFail, VolumeMode::Auto] {
+                let (shadowed, plain) = render(ctx, scene, mode, FarPlane::Infinite);
+                let (compared, in_shadow, wrong) = compare(scene, &reference, &shadowed, &plain);
+                let v = shadowed.report.lights[0].shadow_volume.as_ref().unwrap();
+                println!(
+                    "{} {}: {compared} pixels compared, {in_shadow} in shadow, {wrong} wrong ({} z-pass / {} z-fail casters, {} silhouette edges)",
+                    scene.name,
+                    mode.name(),
+                    v.zpass_casters,
+                    v.zfail_casters,
+                    v.silhouette_edges
+                );
+                let file = format!("{}-{}.png", scene.name.replace('.', "_"), mode.name());
+                shadowed.save_png(&common::output_dir("shadow_volume").join(file)).unwrap();
+                assert!(compared > 5_000 && in_shadow > 300, "{}: too little to compare", scene.name);
+                assert_eq!(wrong, 0, "{} ({}): pixels disagree with the exact reference", scene.name, mode.name());
+            }
+        }
+    });
+}
+
+/// A slab above the floor under a point light, and the eye under the slab, inside its shadow
+/// volume, looking out at the floor.
+fn eye_in_shadow_scene() -> Scene {
+    let mut s = Scene::new("eye in shadow");
+    s.ambient = Vec3::ZERO;
+    let floor = s.add_mesh(primitives::cuboid(Vec3::new(8.0, 0.05, 8.0)));
+    s.add_object(floor, Mat4::from_translation(Vec3::new(0.0, -0.05, 0.0)), Vec3::splat(0.8));
+    let slab = s.add_mesh(primitives::cuboid(Vec3::new(1.5, 0.1, 1.5)));
+    s.add_object(slab, Mat4::from_translation(Vec3::new(0.0, 2.5, 0.0)), Vec3::splat(0.5));
+    s.lights.push(Light::point(Vec3::new(0.0, 6.0, 0.0), 40.0));
+    s.camera = Camera { near: 0.05, ..Camera::look_at(Vec3::new(0.2, 1.0, 0.1), Vec3::new(4.0, 0.0, 3.0)) };
+    s
+}
+
+#[test]
+fn eye_inside_a_volume_is_exact_with_z_fail_and_auto_and_wrong_with_z_pass() {
+    let scene = eye_in_shadow_scene();
+    let reference = Reference::new(&scene);
+    common::with_context(|ctx| {
+        for (mode, exact) in [(VolumeMode::ZFail, true), (VolumeMode::Auto, true), (VolumeMode::ZPass, false)] {
+            let (shadowed, plain) = render(ctx, &scene, mode, FarPlane::Infinite);
+            let (compared, in_shadow, wrong) = compare(&scene, &reference, &shadowed, &plain);
+            println!("eye in shadow, {}: {compared} compared, {in_shadow} in shadow, {wrong} wrong", mode.name());
+            shadowed
+                .save_png(&common::output_dir("shadow_volume").join(format!("eye-in-shadow-{}.png", mode.name())))
+                .unwrap();
+            assert!(compared > 5_000 && in_shadow > 1_000, "the view must hold shadow and light");
+            if exact {
+                assert_eq!(wrong, 0, "{}: the eye inside a volume must not break the count", mode.name());
+            } else {
+                assert!(wrong > 1_000, "z-pass should invert the shadow here (this case must exercise the problem)");
+            }
+        }
+    });
+}
+
+#[test]
+fn depth_clamp_gives_the_same_shadows_as_the_far_plane_at_infinity() {
+    let scene = eye_in_shadow_scene();
+    let reference = Reference::new(&scene);
+    common::with_context(|ctx| {
+        if !ctx.capabilities().depth_clamp {
+            println!("SKIPPED on {}: no depthClamp", ctx.capabilities().device_name);
+            return;
+        }
+        let (shadowed, plain) = render(ctx, &scene, VolumeMode::ZFail, FarPlane::DepthClamp);
+        let (compared, in_shadow, wrong) = compare(&scene, &reference, &shadowed, &plain);
+        println!("depth clamp, z-fail: {compared} compared, {in_shadow} in shadow, {wrong} wrong");
+        assert!(compared > 5_000 && in_shadow > 1_000);
+        assert_eq!(wrong, 0);
+    });
+}
