@@ -133,3 +133,73 @@ fn depth_bounds_masks_by_the_stored_depth_where_supported() {
         assert_eq!(counts, vec![(W * H) as u64, 0]);
     });
 }
+
+/// Counts 300 decrements then 300 increments on every pixel (the order z-fail meets the front
+/// and back faces of 300 volumes behind a lit surface) and returns the final stencil values
+/// as "lit" (0) or not. Wrap ops return to 0; saturating ops stop at 0 on the way down and at
+/// 255 on the way up, and end at 255.
+fn three_hundred_in_and_out(ctx: &umbra::vk::Context, decrement: vk::StencilOp, increment: vk::StencilOp) -> u64 {
+    let format = ctx.capabilities().depth_stencil_format;
+    let depth = Image::new(
+        ctx,
+        "depth/stencil",
+        ImageDesc::new_2d(format, W, H).usage(vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT),
+    )
+    .unwrap();
+    let layout = PipelineLayout::new(ctx, "empty", &[], 0).unwrap();
+    let spec = [(0, 0.5f32.to_bits())];
+    let mut desc = fullscreen("stencil op", &spec, format);
+    desc.depth = DepthState::NONE;
+    let op = |o: vk::StencilOp| umbra::vk::StencilFace { pass: o, ..umbra::vk::StencilFace::KEEP };
+    desc.stencil = Some((op(decrement), op(decrement)));
+    let down = GraphicsPipeline::new(ctx, &layout, &desc).unwrap();
+    desc.stencil = Some((op(increment), op(increment)));
+    let up = GraphicsPipeline::new(ctx, &layout, &desc).unwrap();
+    // Then count the pixels whose stencil is still 0.
+    let zero = umbra::vk::StencilFace { compare: vk::CompareOp::EQUAL, write_mask: 0, ..umbra::vk::StencilFace::KEEP };
+    desc.stencil = Some((zero, zero));
+    let probe = GraphicsPipeline::new(ctx, &layout, &desc).unwrap();
+    let queries = QueryPool::new(ctx, "lit pixels", QueryKind::Occlusion, 1).unwrap();
+    let mut rec = ctx.begin_commands("300 in and out").unwrap();
+    rec.reset_queries(&queries);
+    rec.transition(&[(&depth, ImageState::Undefined, ImageState::DepthStencilAttachment)]);
+    rec.begin_rendering(&RenderTargets {
+        color: &[],
+        depth: Some(DepthAttachment {
+            image: &depth,
+            view: None,
+            clear: Some((1.0, 0)),
+            clear_stencil: None,
+            read_only: false,
+        }),
+    });
+    rec.bind_pipeline(&down);
+    rec.set_stencil_reference(0);
+    for _ in 0..300 {
+        rec.draw(3);
+    }
+    rec.bind_pipeline(&up);
+    for _ in 0..300 {
+        rec.draw(3);
+    }
+    rec.bind_pipeline(&probe);
+    rec.set_stencil_reference(0);
+    rec.begin_query(&queries, 0);
+    rec.draw(3);
+    rec.end_query(&queries, 0);
+    rec.end_rendering();
+    ctx.submit_and_wait(rec).unwrap();
+    queries.results().unwrap()[0]
+}
+
+#[test]
+fn wrap_ops_survive_300_interleaved_counts_where_saturating_ops_do_not() {
+    common::with_context(|ctx| {
+        let wrap = three_hundred_in_and_out(ctx, vk::StencilOp::DECREMENT_AND_WRAP, vk::StencilOp::INCREMENT_AND_WRAP);
+        let clamp =
+            three_hundred_in_and_out(ctx, vk::StencilOp::DECREMENT_AND_CLAMP, vk::StencilOp::INCREMENT_AND_CLAMP);
+        println!("pixels back at 0 after 300 out and 300 in: wrap {wrap}, saturate {clamp} of {}", W * H);
+        assert_eq!(wrap, (W * H) as u64, "wrap ops return every count to 0");
+        assert_eq!(clamp, 0, "saturating ops end at 255: the lit surface would read as shadowed");
+    });
+}

@@ -14,9 +14,13 @@ invariant gl_Position;
 
 void main() {
     Object o = objects[push.object];
-    vec4 wp = o.model * vec4(in_position, 1.0);
+    // `precise` (no FMA contraction) in this shader and in shadow_volume/extrude.vert: the
+    // shadow volume's front cap must land on exactly these depths, and `invariant` alone only
+    // covers identical shader code.
+    precise vec4 wp = o.model * vec4(in_position, 1.0);
     world_position = wp.xyz;
     world_normal = mat3(o.normal_matrix) * in_normal;
     albedo = o.albedo.rgb;
-    gl_Position = frame.view_proj * wp;
+    precise vec4 clip = frame.view_proj * wp;
+    gl_Position = clip;
 }

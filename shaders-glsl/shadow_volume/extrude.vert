@@ -11,10 +11,12 @@ layout(location = 0) in vec4 in_position;
 invariant gl_Position;
 
 void main() {
-    vec4 world = objects[push.object].model * vec4(in_position.xyz, 1.0);
+    // `precise` as in forward/mesh.vert, so front-cap depths equal the scene's exactly.
+    precise vec4 world = objects[push.object].model * vec4(in_position.xyz, 1.0);
     if (in_position.w == 0.0) {
         vec4 l = lights[push.view].position;
         world = vec4(world.xyz * l.w - l.xyz, 0.0);
     }
-    gl_Position = frame.view_proj * world;
+    precise vec4 clip = frame.view_proj * world;
+    gl_Position = clip;
 }

@@ -9,11 +9,14 @@
 //! - Closed 2-manifold casters: front cap = the light-facing triangles, back cap = the
 //!   back-facing triangles at infinity, sides = the silhouette edges (one light-facing and one
 //!   back-facing face) extruded — the paper's construction.
-//! - Open or non-manifold casters (Bergeron; Arneson §4): each light-facing triangle is closed
-//!   on its own — back cap = the light-facing triangles, reversed, at infinity — and an edge is
-//!   extruded as many times as the net count of light-facing faces that walk it one way minus
-//!   the other. Boundary edges and edges of 3+ faces then close the volume, never leaving a
-//!   crack or an inverted region.
+//! - Open or non-manifold casters (Bergeron; Arneson §4): a surface with holes blocks light
+//!   with its back-facing triangles too (light entering a teapot's opening stops at the inside
+//!   of the far wall), so **every** triangle casts, oriented towards the light (back-facing
+//!   ones flipped), and each is closed on its own: front cap = the oriented triangles, back
+//!   cap = the same reversed at infinity, and an edge is extruded as many times as the net
+//!   count of oriented faces that walk it one way minus the other. Boundary edges and edges of
+//!   3+ faces then close the volume; every triangle a shadow ray crosses adds one to the count,
+//!   so any occluder shadows, and no crack or inverted region appears.
 //!
 //! Either way every directed edge of the volume has a reverse twin (the closed-volume
 //! invariant the tests check), so the stencil count along any ray is its winding number.
@@ -86,20 +89,29 @@ impl Volume {
                 continue;
             }
             let [a, b, c] = *t;
-            if lit {
-                v.stats.light_facing += 1;
-                v.caps.push([near(a), near(b), near(c)]);
-                if !closed {
-                    v.caps.push([far(a), far(c), far(b)]);
+            v.stats.light_facing += usize::from(lit);
+            if closed {
+                if lit {
+                    v.caps.push([near(a), near(b), near(c)]);
+                } else {
+                    v.caps.push([far(a), far(b), far(c)]);
                 }
-            } else if closed {
-                v.caps.push([far(a), far(b), far(c)]);
+            } else {
+                // Oriented towards the light: back-facing triangles flipped.
+                let (b, c) = if lit { (b, c) } else { (c, b) };
+                v.caps.push([near(a), near(b), near(c)]);
+                v.caps.push([far(a), far(c), far(b)]);
             }
         }
         for e in &adj.edges {
-            // Net walks of the edge v0 -> v1 by light-facing faces.
-            let net: i32 =
-                e.faces.iter().filter(|f| facing[f.face as usize]).map(|f| if f.forward { 1 } else { -1 }).sum();
+            // Net walks of the edge v0 -> v1 by the casting faces: light-facing ones for a
+            // closed mesh; every face, oriented towards the light, for an open one.
+            let net: i32 = e
+                .faces
+                .iter()
+                .filter(|f| !closed || facing[f.face as usize])
+                .map(|f| if f.forward == (facing[f.face as usize] || closed) { 1 } else { -1 })
+                .sum();
             // A light-facing face walking a -> b is closed by the side b -> a -> a_inf -> b_inf.
             let (a, b) = if net > 0 { (e.v[0], e.v[1]) } else { (e.v[1], e.v[0]) };
             for _ in 0..net.unsigned_abs() {

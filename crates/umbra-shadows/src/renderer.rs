@@ -22,7 +22,7 @@ use crate::shadow_map::frustum::{self, LightViews, MapKind};
 use crate::shadow_map::pass::{self, ShadowMapPass};
 use crate::shadow_map::ShadowMapSettings;
 use crate::shadow_volume::build::{self as volumes, Counting, LightVolumes};
-use crate::shadow_volume::pass::ShadowVolumePass;
+use crate::shadow_volume::pass::{ShadowVolumePass, VolumeBindings};
 use crate::shadow_volume::{FarPlane, ShadowVolumeSettings};
 use crate::timing::{PassLog, PassTimer};
 use crate::{RenderError, RenderResult};
@@ -359,7 +359,13 @@ impl Renderer {
             if let Some((v, buffer)) = volumes {
                 timer.begin(&mut rec, &mut log, format!("shadow_volume {}", plan.light), Some(plan.light));
                 rec.begin_rendering(&RenderTargets { color: &[], depth: Some(keep_depth(Some(0))) });
-                self.shadow_volume.record_stencil(&mut rec, &self.layout, &gpu, buffer, v, plan.light as u32, &mut log);
+                self.shadow_volume.record_stencil(
+                    &mut rec,
+                    VolumeBindings { layout: &self.layout, gpu: &gpu, vertices: buffer },
+                    v,
+                    plan.light as u32,
+                    &mut log,
+                );
                 rec.end_rendering();
                 timer.end(&mut rec, &log);
             }
@@ -391,7 +397,12 @@ impl Renderer {
                 let clear = (overdraw_query == 0).then_some([0.0; 4]);
                 rec.begin_rendering(&RenderTargets { color: &[ColorAttachment { image, clear }], depth: None });
                 rec.begin_query(q, overdraw_query);
-                self.shadow_volume.record_overdraw(&mut rec, &self.layout, &gpu, buffer, v, plan.light as u32);
+                self.shadow_volume.record_overdraw(
+                    &mut rec,
+                    VolumeBindings { layout: &self.layout, gpu: &gpu, vertices: buffer },
+                    v,
+                    plan.light as u32,
+                );
                 rec.end_query(q, overdraw_query);
                 rec.end_rendering();
                 timer.end(&mut rec, &log);

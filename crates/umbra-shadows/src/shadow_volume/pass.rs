@@ -25,6 +25,21 @@ fn face(op: vk::StencilOp, on_depth_fail: bool) -> StencilFace {
     }
 }
 
+/// What every volume draw binds: the shared layout, the scene set and the volume vertices.
+#[derive(Clone, Copy)]
+pub(crate) struct VolumeBindings<'a> {
+    pub layout: &'a PipelineLayout,
+    pub gpu: &'a GpuScene,
+    pub vertices: &'a Buffer,
+}
+
+impl<'a> VolumeBindings<'a> {
+    fn bind(&self, rec: &mut Recorder<'a>) {
+        rec.bind_descriptor_set(self.layout, 0, &self.gpu.set);
+        rec.bind_vertex_buffer(self.vertices);
+    }
+}
+
 /// Pipelines of the shadow-volume technique.
 pub(crate) struct ShadowVolumePass {
     zfail: GraphicsPipeline,
@@ -79,15 +94,12 @@ impl ShadowVolumePass {
     pub fn record_stencil<'a>(
         &'a self,
         rec: &mut Recorder<'a>,
-        layout: &'a PipelineLayout,
-        gpu: &'a GpuScene,
-        vertices: &'a Buffer,
+        b: VolumeBindings<'a>,
         volumes: &LightVolumes,
         light: u32,
         log: &mut PassLog,
     ) {
-        rec.bind_descriptor_set(layout, 0, &gpu.set);
-        rec.bind_vertex_buffer(vertices);
+        b.bind(rec);
         for counting in [Counting::ZFail, Counting::ZPass] {
             let casters: Vec<_> = volumes.casters.iter().filter(|c| c.counting == counting).collect();
             if casters.is_empty() {
@@ -96,7 +108,7 @@ impl ShadowVolumePass {
             rec.bind_pipeline(if counting == Counting::ZFail { &self.zfail } else { &self.zpass });
             rec.set_stencil_reference(0);
             for c in casters {
-                rec.push_constants(layout, &DrawPush { object: c.object as u32, view: light });
+                rec.push_constants(b.layout, &DrawPush { object: c.object as u32, view: light });
                 rec.draw_range(c.count, c.first);
                 log.count_draw(u64::from(c.count / 3));
             }
@@ -108,18 +120,15 @@ impl ShadowVolumePass {
     pub fn record_overdraw<'a>(
         &'a self,
         rec: &mut Recorder<'a>,
-        layout: &'a PipelineLayout,
-        gpu: &'a GpuScene,
-        vertices: &'a Buffer,
+        b: VolumeBindings<'a>,
         volumes: &LightVolumes,
         light: u32,
     ) {
         let Some(p) = &self.overdraw else { return };
         rec.bind_pipeline(p);
-        rec.bind_descriptor_set(layout, 0, &gpu.set);
-        rec.bind_vertex_buffer(vertices);
+        b.bind(rec);
         for c in &volumes.casters {
-            rec.push_constants(layout, &DrawPush { object: c.object as u32, view: light });
+            rec.push_constants(b.layout, &DrawPush { object: c.object as u32, view: light });
             rec.draw_range(c.count, c.first);
         }
     }
