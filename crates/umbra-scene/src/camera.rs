@@ -76,9 +76,13 @@ mod tests {
     fn infinite_projection_puts_points_at_infinity_on_the_far_plane() {
         let mut c = Camera::look_at(Vec3::ZERO, -Vec3::Z);
         c.far = None;
-        let clip = c.view_proj(1.5) * Vec4::new(0.1, 0.2, -1.0, 0.0);
-        assert!(clip.w > 0.0);
-        assert!((clip.z / clip.w - 1.0).abs() < 1e-6, "depth {}", clip.z / clip.w);
+        // Points at infinity (w = 0) in front of the eye, as shadow volumes extrude them.
+        for dir in [Vec4::new(0.1, 0.2, -1.0, 0.0), Vec4::new(-3.0, 0.5, -0.2, 0.0), Vec4::new(0.0, 0.0, -1e-3, 0.0)] {
+            let clip = c.view_proj(1.5) * dir;
+            assert!(clip.w > 0.0);
+            // Exactly the far depth, and inside 0 <= z <= w: never clipped.
+            assert_eq!(clip.z, clip.w, "depth {} for {dir}", clip.z / clip.w);
+        }
         let near = c.view_proj(1.5) * Vec4::new(0.0, 0.0, -c.near, 1.0);
         assert!((near.z / near.w).abs() < 1e-6);
     }

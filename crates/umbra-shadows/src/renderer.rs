@@ -402,6 +402,7 @@ impl Renderer {
                     VolumeBindings { layout: &self.layout, gpu: &gpu, vertices: buffer },
                     v,
                     plan.light as u32,
+                    &mut log,
                 );
                 rec.end_query(q, overdraw_query);
                 rec.end_rendering();

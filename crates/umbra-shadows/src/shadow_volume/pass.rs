@@ -123,6 +123,7 @@ impl ShadowVolumePass {
         b: VolumeBindings<'a>,
         volumes: &LightVolumes,
         light: u32,
+        log: &mut PassLog,
     ) {
         let Some(p) = &self.overdraw else { return };
         rec.bind_pipeline(p);
@@ -130,6 +131,7 @@ impl ShadowVolumePass {
         for c in &volumes.casters {
             rec.push_constants(b.layout, &DrawPush { object: c.object as u32, view: light });
             rec.draw_range(c.count, c.first);
+            log.count_draw(u64::from(c.count / 3));
         }
     }
 }
