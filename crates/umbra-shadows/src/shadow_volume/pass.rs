@@ -1,7 +1,7 @@
 //! The stencil pass (Everitt–Kilgard §2.1): each caster's volume drawn once with two-sided
 //! stencil and wrap ops, colour and depth writes off, then (optionally) the overdraw image.
 
-use super::build::{Counting, LightVolumes};
+use super::build::{CasterVolume, Counting, LightVolumes};
 use super::settings::{FarPlane, ShadowVolumeSettings};
 use crate::gpu_scene::{DrawPush, GpuScene};
 use crate::timing::PassLog;
@@ -37,6 +37,21 @@ impl<'a> VolumeBindings<'a> {
     fn bind(&self, rec: &mut Recorder<'a>) {
         rec.bind_descriptor_set(self.layout, 0, &self.gpu.set);
         rec.bind_vertex_buffer(self.vertices);
+    }
+
+    /// One draw per caster, with the bound pipeline.
+    fn draw<'c>(
+        &self,
+        rec: &mut Recorder<'a>,
+        casters: impl IntoIterator<Item = &'c CasterVolume>,
+        light: u32,
+        log: &mut PassLog,
+    ) {
+        for c in casters {
+            rec.push_constants(self.layout, &DrawPush { object: c.object as u32, view: light });
+            rec.draw_range(c.count, c.first);
+            log.count_draw(u64::from(c.count / 3));
+        }
     }
 }
 
@@ -107,11 +122,7 @@ impl ShadowVolumePass {
             }
             rec.bind_pipeline(if counting == Counting::ZFail { &self.zfail } else { &self.zpass });
             rec.set_stencil_reference(0);
-            for c in casters {
-                rec.push_constants(b.layout, &DrawPush { object: c.object as u32, view: light });
-                rec.draw_range(c.count, c.first);
-                log.count_draw(u64::from(c.count / 3));
-            }
+            b.draw(rec, casters, light, log);
         }
     }
 
@@ -128,10 +139,6 @@ impl ShadowVolumePass {
         let Some(p) = &self.overdraw else { return };
         rec.bind_pipeline(p);
         b.bind(rec);
-        for c in &volumes.casters {
-            rec.push_constants(b.layout, &DrawPush { object: c.object as u32, view: light });
-            rec.draw_range(c.count, c.first);
-            log.count_draw(u64::from(c.count / 3));
-        }
+        b.draw(rec, &volumes.casters, light, log);
     }
 }
