@@ -189,11 +189,11 @@ fn closed_meshes_match_the_exact_reference_outside_the_half_pixel_band() {
 }
 
 /// Wrong pixels tolerated: none on lavapipe; on SwiftShader, lone-pixel sparkles up to 0.05% of
-/// the compared pixels. In z-fail only, SwiftShader miscounts a few lone pixels where the eye
-/// ray meets a caster's volume *behind* the visible surface (measured: 1-10 lone pixels per
-/// 15-30k, with P_inf and with depth clamp alike, with or without the floor casting), while
-/// z-pass is exact there and lavapipe is exact everywhere on the same volumes, which the
-/// proptest proves closed. Open work in issue 4; anything beyond that allowance fails.
+/// the compared pixels. SwiftShader does not rasterize the volumes' long clipped triangles
+/// watertight (`closed_volumes_rasterize_watertight` shows it on the bare clip-space geometry,
+/// with no depth test, while the casters' in-view meshes count exactly), so z-fail, which counts
+/// geometry behind the visible surface, gets a few lone pixels wrong. Anything beyond that
+/// allowance fails; lavapipe is exact.
 fn sparkle_allowance(ctx: &Context, compared: usize) -> usize {
     if ctx.capabilities().device_name.to_lowercase().contains("swiftshader") {
         compared / 2_000
@@ -361,5 +361,114 @@ fn three_hundred_overlapping_volumes_count_past_255() {
     s.camera = Camera::look_at(Vec3::new(-2.5, 0.6, 3.5), Vec3::new(0.3, 0.0, 0.0));
     common::with_context(|ctx| {
         exact_in_zfail_and_auto(ctx, &s, 1_000);
+    });
+}
+
+/// Rasterizes `triangles` (clip-space) with two-sided stencil counting (+1 front, −1 back,
+/// wrap) and no depth test, and returns how many pixels end at a nonzero count. A closed
+/// surface must leave every pixel at 0.
+fn nonzero_after_counting(ctx: &Context, triangles: &[Vec4], w: u32, h: u32) -> u64 {
+    use umbra::vk::{
+        vk, Buffer, DepthAttachment, DepthState, GraphicsPipeline, GraphicsPipelineDesc, Image, ImageDesc, ImageState,
+        PipelineLayout, QueryKind, QueryPool, RenderTargets, StencilFace, VertexAttribute,
+    };
+    let format = ctx.capabilities().depth_stencil_format;
+    let target =
+        Image::new(ctx, "count", ImageDesc::new_2d(format, w, h).usage(vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT))
+            .unwrap();
+    let layout = PipelineLayout::new(ctx, "empty", &[], 0).unwrap();
+    let attrs = [VertexAttribute { location: 0, format: vk::Format::R32G32B32A32_SFLOAT, offset: 0 }];
+    let mut desc = GraphicsPipelineDesc::new("count", umbra::shaders::debug::CLIP_PASSTHROUGH_VERT);
+    desc.vertex_stride = 16;
+    desc.vertex_attributes = &attrs;
+    desc.cull = vk::CullModeFlags::NONE;
+    desc.depth = DepthState::NONE;
+    desc.depth_format = format;
+    let op = |o: vk::StencilOp| StencilFace { pass: o, ..StencilFace::KEEP };
+    desc.stencil = Some((op(vk::StencilOp::INCREMENT_AND_WRAP), op(vk::StencilOp::DECREMENT_AND_WRAP)));
+    let count = GraphicsPipeline::new(ctx, &layout, &desc).unwrap();
+    let mut probe_desc = GraphicsPipelineDesc::new("nonzero", umbra::shaders::fullscreen::TRIANGLE_VERT);
+    probe_desc.cull = vk::CullModeFlags::NONE;
+    probe_desc.depth = DepthState::NONE;
+    probe_desc.depth_format = format;
+    let nonzero = StencilFace { compare: vk::CompareOp::NOT_EQUAL, write_mask: 0, ..StencilFace::KEEP };
+    probe_desc.stencil = Some((nonzero, nonzero));
+    let probe = GraphicsPipeline::new(ctx, &layout, &probe_desc).unwrap();
+    let bytes: &[u8] = umbra::vk::bytemuck::cast_slice(triangles);
+    let vertices = Buffer::with_data(ctx, "clip triangles", vk::BufferUsageFlags::VERTEX_BUFFER, bytes).unwrap();
+    let queries = QueryPool::new(ctx, "nonzero pixels", QueryKind::Occlusion, 1).unwrap();
+    let mut rec = ctx.begin_commands("watertight").unwrap();
+    rec.reset_queries(&queries);
+    rec.transition(&[(&target, ImageState::Undefined, ImageState::DepthStencilAttachment)]);
+    rec.begin_rendering(&RenderTargets {
+        color: &[],
+        depth: Some(DepthAttachment {
+            image: &target,
+            view: None,
+            clear: Some((1.0, 0)),
+            clear_stencil: None,
+            read_only: false,
+        }),
+    });
+    rec.bind_pipeline(&count);
+    rec.set_stencil_reference(0);
+    rec.bind_vertex_buffer(&vertices);
+    rec.draw(triangles.len() as u32);
+    rec.bind_pipeline(&probe);
+    rec.set_stencil_reference(0);
+    rec.begin_query(&queries, 0);
+    rec.draw(3);
+    rec.end_query(&queries, 0);
+    rec.end_rendering();
+    ctx.submit_and_wait(rec).unwrap();
+    queries.results().unwrap()[0]
+}
+
+#[test]
+fn closed_volumes_rasterize_watertight() {
+    // The volumes of the closed-mesh scenes, extruded on the CPU (the vertex shader's formula),
+    // seen by each scene's camera with P_inf: every pixel must count 0.
+    let scenes = [umbra::scene::load("cubes").unwrap(), asset_scene("spot.glb"), asset_scene("fandisk.glb")];
+    common::with_context(|ctx| {
+        let (w, h) = common::SIZE;
+        for scene in &scenes {
+            let camera = Camera { far: None, ..scene.camera };
+            let vp = camera.view_proj(w as f32 / h as f32);
+            let light = scene.lights[0].position;
+            let mut clip = Vec::new();
+            for o in scene.objects.iter().filter(|o| o.casts_shadows) {
+                let adj = umbra::scene::Adjacency::build(&scene.meshes[o.mesh]);
+                let local = o.transform.inverse() * light;
+                let volume = umbra::scene::Volume::build(&adj, local);
+                for v in volume.vertices(&adj, true) {
+                    let world = o.transform * v.truncate().extend(1.0);
+                    let world = if v.w == 0.0 { umbra::scene::extrude(world.truncate(), light) } else { world };
+                    clip.push(vp * world);
+                }
+            }
+            let nonzero = nonzero_after_counting(ctx, &clip, w, h) as usize;
+            println!("{}: {} volume triangles, {nonzero} pixels with a nonzero count", scene.name, clip.len() / 3);
+            // The casters' own closed meshes (small triangles in view, nothing to clip): the
+            // same counting must be exact on every driver.
+            let mesh_clip: Vec<Vec4> = scene
+                .objects
+                .iter()
+                .filter(|o| o.casts_shadows)
+                .flat_map(|o| {
+                    let m = &scene.meshes[o.mesh];
+                    m.indices.iter().map(move |&i| vp * (o.transform * m.positions[i as usize].extend(1.0)))
+                })
+                .collect();
+            let mesh_nonzero = nonzero_after_counting(ctx, &mesh_clip, w, h);
+            println!("{}: the casters' meshes alone, {mesh_nonzero} pixels with a nonzero count", scene.name);
+            assert_eq!(mesh_nonzero, 0, "{}: closed meshes in view must rasterize watertight", scene.name);
+            if nonzero != 0 && nonzero <= sparkle_allowance(ctx, (w * h) as usize) {
+                // The z-fail sparkles' cause, isolated: the same closed clip-space triangles, no
+                // depth test, and the driver leaves a few pixels counted an odd way.
+                println!("  KNOWN SWIFTSHADER ISSUE: closed geometry does not rasterize watertight here");
+            } else {
+                assert_eq!(nonzero, 0, "{}: the closed volumes must rasterize watertight", scene.name);
+            }
+        }
     });
 }
