@@ -28,6 +28,9 @@ cargo fmt --all -- --check
 echo "== cargo clippy (warnings are errors, missing rustdoc included)"
 cargo clippy --workspace --all-targets --locked -- -D warnings
 
+echo "== rustdoc (warnings are errors)"
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --locked
+
 echo "== build"
 cargo build --workspace --all-targets --locked
 

@@ -2,10 +2,10 @@
 //! Arneson §3, Sen §1. The fast, inexact baseline every other technique is compared with.
 //!
 //! Per light, top to bottom:
-//! 1. fit the light's views ([`frustum`]): orthographic for directional lights (fitted to the
+//! 1. fit the light's views (`frustum.rs`): orthographic for directional lights (fitted to the
 //!    casters that can shadow visible receivers), perspective around a spot's cone, six cube
 //!    faces for point lights;
-//! 2. render depth from the light ([`pass`]): positions only, no colour attachment, casters
+//! 2. render depth from the light (`pass.rs`): positions only, no colour attachment, casters
 //!    front to back, constant + slope-scaled depth bias through `vkCmdSetDepthBias`;
 //! 3. in the light's lighting pass, compare against the map (`shaders-glsl/shadow_map/lookup.glsl`):
 //!    nearest, hardware 2×2 PCF through a LINEAR comparison sampler, or 3×3 / 5×5 kernels;
