@@ -472,3 +472,40 @@ fn closed_volumes_rasterize_watertight() {
         }
     });
 }
+
+#[test]
+fn several_lights_accumulate_each_with_its_own_stencil_count() {
+    // Two point lights on the slab scene: the stencil is cleared per light, so the two-light
+    // frame is the sum of the one-light frames, pixel by pixel.
+    let mut scene = eye_in_shadow_scene();
+    // No ambient and a black background: each frame holds only its lights' terms.
+    assert_eq!(scene.ambient, Vec3::ZERO);
+    scene.background = Vec3::ZERO;
+    scene.camera = Camera::look_at(Vec3::new(-4.0, 4.5, 5.0), Vec3::new(0.0, 1.0, 0.0));
+    scene.lights = vec![Light::point(Vec3::new(0.0, 6.0, 0.0), 20.0), Light::point(Vec3::new(3.0, 5.0, -2.0), 20.0)];
+    for l in &mut scene.lights {
+        l.technique = Technique::ShadowVolume;
+    }
+    common::with_context(|ctx| {
+        let mut r = Renderer::new(ctx, RendererDesc::new(common::SIZE.0, common::SIZE.1)).unwrap();
+        let both = r.render(&scene).unwrap();
+        let mut single = |i: usize| {
+            let mut s = scene.clone();
+            s.lights = vec![scene.lights[i].clone()];
+            r.render(&s).unwrap()
+        };
+        let (a, b) = (single(0), single(1));
+        let mut worst = 0;
+        for ((p, x), y) in both.rgba.chunks_exact(4).zip(a.rgba.chunks_exact(4)).zip(b.rgba.chunks_exact(4)) {
+            for c in 0..3 {
+                let sum = (i32::from(x[c]) + i32::from(y[c])).min(255);
+                worst = worst.max((i32::from(p[c]) - sum).abs());
+            }
+        }
+        let volume_passes = both.report.passes.iter().filter(|p| p.name.starts_with("shadow_volume")).count();
+        println!("two shadow-volume lights: {volume_passes} stencil passes, worst difference from the sum {worst}/255");
+        assert_eq!(volume_passes, 2);
+        // One 8-bit rounding per addend.
+        assert!(worst <= 2, "two lights differ from the sum of one-light frames by {worst}");
+    });
+}
