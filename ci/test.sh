@@ -37,7 +37,7 @@ cargo build --workspace --all-targets --locked
 failed=()
 for device in llvmpipe swiftshader; do
     echo "== tests on $device (validation on)"
-    if ! UMBRA_DEVICE=$device cargo test --workspace --locked --no-fail-fast -- --test-threads=2; then
+    if ! UMBRA_DEVICE=$device cargo test --workspace --locked --no-fail-fast -- --test-threads=2 --show-output; then
         failed+=("$device")
     fi
 done
