@@ -509,3 +509,16 @@ fn several_lights_accumulate_each_with_its_own_stencil_count() {
         assert!(worst <= 2, "two lights differ from the sum of one-light frames by {worst}");
     });
 }
+
+#[test]
+fn an_empty_scene_renders_its_background() {
+    let mut s = Scene::new("empty");
+    s.lights.push(Light::point(Vec3::ONE, 1.0));
+    s.lights[0].technique = Technique::ShadowVolume;
+    common::with_context(|ctx| {
+        let frame = Renderer::new(ctx, RendererDesc::new(64, 48)).unwrap().render(&s).unwrap();
+        let bg = (s.background * 255.0).to_array().map(|v| v.round() as u8);
+        assert!(frame.rgba.chunks_exact(4).all(|p| p[..3].iter().zip(bg).all(|(a, b)| a.abs_diff(b) <= 1)));
+        assert_eq!(frame.report.lights[0].skipped_because.as_deref(), Some("no objects to light"));
+    });
+}

@@ -376,7 +376,8 @@ impl Renderer {
                 Some(plan.light),
             );
             rec.begin_rendering(&RenderTargets { color: &load_color, depth: Some(keep_depth(None)) });
-            let stenciled = built[plan.light].is_some();
+            // Test the stencil only after this light's own stencil pass (which cleared it).
+            let stenciled = volumes.is_some();
             self.forward.record_light(
                 &mut rec,
                 &self.layout,
