@@ -369,13 +369,11 @@ fn three_hundred_overlapping_volumes_count_past_255() {
 /// surface must leave every pixel at 0.
 fn nonzero_after_counting(ctx: &Context, triangles: &[Vec4], w: u32, h: u32) -> u64 {
     use umbra::vk::{
-        vk, Buffer, DepthAttachment, DepthState, GraphicsPipeline, GraphicsPipelineDesc, Image, ImageDesc, ImageState,
-        PipelineLayout, QueryKind, QueryPool, RenderTargets, StencilFace, VertexAttribute,
+        vk, Buffer, DepthState, GraphicsPipeline, GraphicsPipelineDesc, PipelineLayout, QueryKind, QueryPool,
+        StencilFace, VertexAttribute,
     };
     let format = ctx.capabilities().depth_stencil_format;
-    let target =
-        Image::new(ctx, "count", ImageDesc::new_2d(format, w, h).usage(vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT))
-            .unwrap();
+    let target = common::depth_target(ctx, "count", w, h, vk::ImageUsageFlags::empty());
     let layout = PipelineLayout::new(ctx, "empty", &[], 0).unwrap();
     let attrs = [VertexAttribute { location: 0, format: vk::Format::R32G32B32A32_SFLOAT, offset: 0 }];
     let mut desc = GraphicsPipelineDesc::new("count", umbra::shaders::debug::CLIP_PASSTHROUGH_VERT);
@@ -399,17 +397,7 @@ fn nonzero_after_counting(ctx: &Context, triangles: &[Vec4], w: u32, h: u32) -> 
     let queries = QueryPool::new(ctx, "nonzero pixels", QueryKind::Occlusion, 1).unwrap();
     let mut rec = ctx.begin_commands("watertight").unwrap();
     rec.reset_queries(&queries);
-    rec.transition(&[(&target, ImageState::Undefined, ImageState::DepthStencilAttachment)]);
-    rec.begin_rendering(&RenderTargets {
-        color: &[],
-        depth: Some(DepthAttachment {
-            image: &target,
-            view: None,
-            clear: Some((1.0, 0)),
-            clear_stencil: None,
-            read_only: false,
-        }),
-    });
+    common::begin_depth_pass(&mut rec, &target);
     rec.bind_pipeline(&count);
     rec.set_stencil_reference(0);
     rec.bind_vertex_buffer(&vertices);

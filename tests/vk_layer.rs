@@ -3,8 +3,8 @@
 mod common;
 
 use umbra::vk::{
-    vk, Buffer, BufferDesc, DepthAttachment, DepthState, GraphicsPipeline, GraphicsPipelineDesc, Image, ImageDesc,
-    ImageState, PipelineLayout, QueryKind, QueryPool, RenderTargets,
+    vk, Buffer, BufferDesc, DepthState, GraphicsPipeline, GraphicsPipelineDesc, ImageState, PipelineLayout, QueryKind,
+    QueryPool,
 };
 
 const W: u32 = 64;
@@ -23,13 +23,7 @@ fn fullscreen<'a>(name: &'a str, spec: &'a [(u32, u32)], format: vk::Format) -> 
 fn occlusion_queries_count_every_covered_sample_and_depth_is_read_back() {
     common::with_context(|ctx| {
         let format = ctx.capabilities().depth_stencil_format;
-        let depth = Image::new(
-            ctx,
-            "depth",
-            ImageDesc::new_2d(format, W, H)
-                .usage(vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC),
-        )
-        .unwrap();
+        let depth = common::depth_target(ctx, "depth", W, H, vk::ImageUsageFlags::TRANSFER_SRC);
         let layout = PipelineLayout::new(ctx, "empty", &[], 0).unwrap();
         let spec = [(0, 0.25f32.to_bits())];
         let pipeline = GraphicsPipeline::new(ctx, &layout, &fullscreen("write 0.25", &spec, format)).unwrap();
@@ -39,17 +33,7 @@ fn occlusion_queries_count_every_covered_sample_and_depth_is_read_back() {
 
         let mut rec = ctx.begin_commands("occlusion test").unwrap();
         rec.reset_queries(&queries);
-        rec.transition(&[(&depth, ImageState::Undefined, ImageState::DepthStencilAttachment)]);
-        rec.begin_rendering(&RenderTargets {
-            color: &[],
-            depth: Some(DepthAttachment {
-                image: &depth,
-                view: None,
-                clear: Some((1.0, 0)),
-                read_only: false,
-                clear_stencil: None,
-            }),
-        });
+        common::begin_depth_pass(&mut rec, &depth);
         rec.bind_pipeline(&pipeline);
         rec.begin_query(&queries, 0);
         rec.draw(3); // depth 0.25 < 1.0: every sample passes
@@ -79,12 +63,7 @@ fn depth_bounds_masks_by_the_stored_depth_where_supported() {
             return;
         }
         let format = caps.depth_stencil_format;
-        let depth = Image::new(
-            ctx,
-            "depth",
-            ImageDesc::new_2d(format, W, H).usage(vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT),
-        )
-        .unwrap();
+        let depth = common::depth_target(ctx, "depth", W, H, vk::ImageUsageFlags::empty());
         let layout = PipelineLayout::new(ctx, "empty", &[], 0).unwrap();
         let write_spec = [(0, 0.6f32.to_bits())];
         let write = GraphicsPipeline::new(ctx, &layout, &fullscreen("write 0.6", &write_spec, format)).unwrap();
@@ -104,17 +83,7 @@ fn depth_bounds_masks_by_the_stored_depth_where_supported() {
 
         let mut rec = ctx.begin_commands("depth bounds test").unwrap();
         rec.reset_queries(&queries);
-        rec.transition(&[(&depth, ImageState::Undefined, ImageState::DepthStencilAttachment)]);
-        rec.begin_rendering(&RenderTargets {
-            color: &[],
-            depth: Some(DepthAttachment {
-                image: &depth,
-                view: None,
-                clear: Some((1.0, 0)),
-                read_only: false,
-                clear_stencil: None,
-            }),
-        });
+        common::begin_depth_pass(&mut rec, &depth);
         rec.bind_pipeline(&write);
         rec.draw(3);
         rec.bind_pipeline(&probe);
@@ -140,12 +109,7 @@ fn depth_bounds_masks_by_the_stored_depth_where_supported() {
 /// 255 on the way up, and end at 255.
 fn three_hundred_in_and_out(ctx: &umbra::vk::Context, decrement: vk::StencilOp, increment: vk::StencilOp) -> u64 {
     let format = ctx.capabilities().depth_stencil_format;
-    let depth = Image::new(
-        ctx,
-        "depth/stencil",
-        ImageDesc::new_2d(format, W, H).usage(vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT),
-    )
-    .unwrap();
+    let depth = common::depth_target(ctx, "depth/stencil", W, H, vk::ImageUsageFlags::empty());
     let layout = PipelineLayout::new(ctx, "empty", &[], 0).unwrap();
     let spec = [(0, 0.5f32.to_bits())];
     let mut desc = fullscreen("stencil op", &spec, format);
@@ -162,17 +126,7 @@ fn three_hundred_in_and_out(ctx: &umbra::vk::Context, decrement: vk::StencilOp, 
     let queries = QueryPool::new(ctx, "lit pixels", QueryKind::Occlusion, 1).unwrap();
     let mut rec = ctx.begin_commands("300 in and out").unwrap();
     rec.reset_queries(&queries);
-    rec.transition(&[(&depth, ImageState::Undefined, ImageState::DepthStencilAttachment)]);
-    rec.begin_rendering(&RenderTargets {
-        color: &[],
-        depth: Some(DepthAttachment {
-            image: &depth,
-            view: None,
-            clear: Some((1.0, 0)),
-            clear_stencil: None,
-            read_only: false,
-        }),
-    });
+    common::begin_depth_pass(&mut rec, &depth);
     rec.bind_pipeline(&down);
     rec.set_stencil_reference(0);
     for _ in 0..300 {

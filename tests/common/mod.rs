@@ -43,5 +43,35 @@ pub fn output_dir(test: &str) -> PathBuf {
     dir
 }
 
+/// A `w` × `h` depth/stencil attachment in the device's preferred format (plus `extra` usage).
+pub fn depth_target(
+    ctx: &Context,
+    name: &str,
+    w: u32,
+    h: u32,
+    extra: umbra::vk::vk::ImageUsageFlags,
+) -> umbra::vk::Image {
+    use umbra::vk::{vk, Image, ImageDesc};
+    let format = ctx.capabilities().depth_stencil_format;
+    Image::new(ctx, name, ImageDesc::new_2d(format, w, h).usage(vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | extra))
+        .expect("depth/stencil target")
+}
+
+/// Starts rendering into `depth` alone, cleared to depth 1 and stencil 0.
+pub fn begin_depth_pass<'a>(rec: &mut umbra::vk::Recorder<'a>, depth: &'a umbra::vk::Image) {
+    use umbra::vk::{DepthAttachment, ImageState, RenderTargets};
+    rec.transition(&[(depth, ImageState::Undefined, ImageState::DepthStencilAttachment)]);
+    rec.begin_rendering(&RenderTargets {
+        color: &[],
+        depth: Some(DepthAttachment {
+            image: depth,
+            view: None,
+            clear: Some((1.0, 0)),
+            clear_stencil: None,
+            read_only: false,
+        }),
+    });
+}
+
 /// Test image size (small: CPU drivers).
 pub const SIZE: (u32, u32) = (256, 192);
