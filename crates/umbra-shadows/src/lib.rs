@@ -18,6 +18,7 @@ mod renderer;
 mod report;
 pub mod shadow_map;
 pub mod shadow_volume;
+pub mod silhouette_map;
 mod timing;
 
 pub use error::{RenderError, RenderResult};
