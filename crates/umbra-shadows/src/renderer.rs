@@ -77,6 +77,9 @@ pub struct Frame {
 
 impl Frame {
     /// The RGBA value at `(x, y)`, `y = 0` being the top row.
+    ///
+    /// # Panics
+    /// When `(x, y)` lies outside the frame, like slice indexing.
     pub fn pixel(&self, x: u32, y: u32) -> [u8; 4] {
         let i = 4 * (y as usize * self.width as usize + x as usize);
         let mut p = [0; 4];
