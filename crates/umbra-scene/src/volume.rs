@@ -66,25 +66,57 @@ const fn far(vertex: u32) -> VolumeVertex {
     VolumeVertex { vertex, far: true }
 }
 
+fn degenerate(t: &[u32; 3]) -> bool {
+    t[0] == t[1] || t[1] == t[2] || t[0] == t[2]
+}
+
+/// Whether each triangle of `adj` faces the homogeneous light position `light` (in the mesh's
+/// object space): its plane evaluated at the light is positive, `d = A·Lx + B·Ly + C·Lz + D·Lw`,
+/// so directional lights (w = 0) need no special case.
+pub fn facing(adj: &Adjacency, light: Vec4) -> Vec<bool> {
+    adj.triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| adj.positions[i as usize]);
+            let n = (b - a).cross(c - a);
+            n.dot(light.truncate()) - n.dot(a) * light.w > 0.0
+        })
+        .collect()
+}
+
+/// The silhouette edges of `adj` for the facing `lit` (from [`facing`]), directed as a casting
+/// face walks them and repeated with their multiplicity: the one source of silhouettes for
+/// shadow volumes and silhouette maps.
+///
+/// Closed meshes: edges between a light-facing and a back-facing face. Open or non-manifold
+/// meshes: every face casts, oriented towards the light, and an edge counts the net number of
+/// oriented faces walking it one way minus the other (boundary edges and edges of 3+ faces
+/// included).
+pub fn silhouette_edges(adj: &Adjacency, lit: &[bool]) -> Vec<[u32; 2]> {
+    let closed = adj.report.closed;
+    let mut out = Vec::new();
+    for e in &adj.edges {
+        let net: i32 = e
+            .faces
+            .iter()
+            .filter(|f| !closed || lit[f.face as usize])
+            .map(|f| if f.forward == (lit[f.face as usize] || closed) { 1 } else { -1 })
+            .sum();
+        let edge = if net > 0 { [e.v[0], e.v[1]] } else { [e.v[1], e.v[0]] };
+        out.extend(std::iter::repeat_n(edge, net.unsigned_abs() as usize));
+    }
+    out
+}
+
 impl Volume {
     /// Builds the volume of a caster whose welded connectivity is `adj`, for a light at the
     /// homogeneous position `light` **in the caster's object space** (w = 0 directional).
     /// A triangle faces the light when its plane evaluated at `light` is positive.
     pub fn build(adj: &Adjacency, light: Vec4) -> Self {
-        let facing: Vec<bool> = adj
-            .triangles
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|i| adj.positions[i as usize]);
-                let n = (b - a).cross(c - a);
-                // Plane (n, -n·a) at the homogeneous light position.
-                n.dot(light.truncate()) - n.dot(a) * light.w > 0.0
-            })
-            .collect();
-        let degenerate = |t: &[u32; 3]| t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
+        let lit = facing(adj, light);
         let closed = adj.report.closed;
         let mut v = Volume::default();
-        for (t, &lit) in adj.triangles.iter().zip(&facing) {
+        for (t, &lit) in adj.triangles.iter().zip(&lit) {
             if degenerate(t) {
                 continue;
             }
@@ -103,22 +135,11 @@ impl Volume {
                 v.caps.push([far(a), far(c), far(b)]);
             }
         }
-        for e in &adj.edges {
-            // Net walks of the edge v0 -> v1 by the casting faces: light-facing ones for a
-            // closed mesh; every face, oriented towards the light, for an open one.
-            let net: i32 = e
-                .faces
-                .iter()
-                .filter(|f| !closed || facing[f.face as usize])
-                .map(|f| if f.forward == (facing[f.face as usize] || closed) { 1 } else { -1 })
-                .sum();
-            // A light-facing face walking a -> b is closed by the side b -> a -> a_inf -> b_inf.
-            let (a, b) = if net > 0 { (e.v[0], e.v[1]) } else { (e.v[1], e.v[0]) };
-            for _ in 0..net.unsigned_abs() {
-                v.sides.push([near(b), near(a), far(a)]);
-                v.sides.push([near(b), far(a), far(b)]);
-                v.stats.silhouette_edges += 1;
-            }
+        for [a, b] in silhouette_edges(adj, &lit) {
+            // A casting face walking a -> b is closed by the side b -> a -> a_inf -> b_inf.
+            v.sides.push([near(b), near(a), far(a)]);
+            v.sides.push([near(b), far(a), far(b)]);
+            v.stats.silhouette_edges += 1;
         }
         v.stats.side_triangles = v.sides.len();
         v.stats.cap_triangles = v.caps.len();
