@@ -1,13 +1,16 @@
-//! Renders a scene without shadows (the forward baseline) and writes `render.png` and
-//! `render.json` (the frame report).
+//! Renders a scene with the techniques its lights ask for (procedural scenes: none, the forward
+//! baseline), or with `--technique` for every light, and writes `render.png` and `render.json`
+//! (the frame report).
 //!
 //! ```text
 //! cargo run --release --example render -- --scene cubes --size 1024x768 --out out/
+//! cargo run --release --example render -- --scene pins --technique shadow_volume
 //! ```
 
 mod common;
 
 use clap::Parser;
+use umbra::scene::Technique;
 use umbra::shadows::{Renderer, RendererDesc};
 
 #[derive(Parser, Debug)]
@@ -15,13 +18,28 @@ use umbra::shadows::{Renderer, RendererDesc};
 struct Args {
     #[command(flatten)]
     common: common::CommonArgs,
+    /// Use this technique for every light: unshadowed, shadow_map or shadow_volume.
+    #[arg(long, value_parser = parse_technique)]
+    technique: Option<Technique>,
+}
+
+fn parse_technique(s: &str) -> Result<Technique, String> {
+    [Technique::Unshadowed, Technique::ShadowMap, Technique::ShadowVolume, Technique::SilhouetteMap, Technique::Hybrid]
+        .into_iter()
+        .find(|t| t.name() == s)
+        .ok_or_else(|| format!("{s:?}: expected unshadowed, shadow_map, shadow_volume, silhouette_map or hybrid"))
 }
 
 fn main() -> anyhow::Result<()> {
     common::init_logging();
     let args = Args::parse();
     let ctx = umbra::vk::Context::new()?;
-    let scene = umbra::scene::load(&args.common.scene)?;
+    let mut scene = umbra::scene::load(&args.common.scene)?;
+    if let Some(t) = args.technique {
+        for light in &mut scene.lights {
+            light.technique = t;
+        }
+    }
     let (width, height) = args.common.size;
     let mut renderer = Renderer::new(&ctx, RendererDesc::new(width, height))?;
     let frame = common::render_warm(&mut renderer, &scene, &args.common)?;

@@ -222,7 +222,7 @@ fn pins_scene() -> Scene {
                 format!("pin {n}");
         }
     }
-    point_light(&mut s, Vec3::new(-1.5, 4.5, -3.5), Vec3::new(0.0, 0.0, -0.8));
+    point_light(&mut s, Vec3::new(-1.8, 4.0, 1.5), Vec3::new(0.0, 0.0, -0.8));
     s.camera = Camera::look_at(Vec3::new(0.8, 1.6, 3.0), Vec3::new(0.0, 0.6, -0.8));
     s
 }
