@@ -2,7 +2,7 @@
 //! uses (§3.4).
 
 use super::settings::VolumeMode;
-use glam::{Mat4, Vec3, Vec4, Vec4Swizzles};
+use glam::{Vec3, Vec4, Vec4Swizzles};
 use rayon::prelude::*;
 use std::sync::Arc;
 use umbra_scene::{Aabb, Adjacency, Camera, Light, Scene, Volume, VolumeStats};
@@ -154,15 +154,14 @@ pub(crate) fn volume_camera(camera: &Camera, infinite: bool) -> Camera {
     }
 }
 
-/// Model matrices never change a volume's topology; exposed for tests of the mode choice.
-#[allow(dead_code)]
-pub(crate) fn touches_near_region(camera: &Camera, aspect: f32, light: Vec4, bounds: &Aabb, transform: Mat4) -> bool {
-    NearRegion::new(camera, aspect, light).may_touch(&bounds.transformed(&transform))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Mat4;
+
+    fn touches_near_region(camera: &Camera, aspect: f32, light: Vec4, bounds: &Aabb, transform: Mat4) -> bool {
+        NearRegion::new(camera, aspect, light).may_touch(&bounds.transformed(&transform))
+    }
 
     #[test]
     fn casters_between_the_eye_and_the_light_need_z_fail() {
