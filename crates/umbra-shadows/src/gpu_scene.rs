@@ -127,14 +127,6 @@ impl GpuScene {
     ) -> RenderResult<Self> {
         scene.validate()?;
         let (vertices, indices, meshes) = pack_meshes(&scene.meshes);
-        let usage = vk::BufferUsageFlags::VERTEX_BUFFER;
-        let vertices = Buffer::with_data(ctx, "scene vertices", usage, nonempty(bytemuck::cast_slice(&vertices)))?;
-        let indices = Buffer::with_data(
-            ctx,
-            "scene indices",
-            vk::BufferUsageFlags::INDEX_BUFFER,
-            nonempty(bytemuck::cast_slice(&indices)),
-        )?;
 
         let c = camera;
         let frame = FrameUniforms {
@@ -173,13 +165,25 @@ impl GpuScene {
                 }
             })
             .collect();
-        let frame =
-            Buffer::with_data(ctx, "frame uniforms", vk::BufferUsageFlags::UNIFORM_BUFFER, bytemuck::bytes_of(&frame))?;
-        let ssbo = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let objects = Buffer::with_data(ctx, "objects", ssbo, nonempty(bytemuck::cast_slice(&objects)))?;
-        let lights = Buffer::with_data(ctx, "lights", ssbo, nonempty(bytemuck::cast_slice(&lights)))?;
         let views: Vec<[f32; 16]> = shadow_views.iter().map(Mat4::to_cols_array).collect();
-        let views = Buffer::with_data(ctx, "shadow views", ssbo, nonempty(bytemuck::cast_slice(&views)))?;
+        let ssbo = vk::BufferUsageFlags::STORAGE_BUFFER;
+        // One submission for every buffer of the frame.
+        let uploaded = Buffer::upload_many(
+            ctx,
+            &[
+                ("scene vertices", vk::BufferUsageFlags::VERTEX_BUFFER, nonempty(bytemuck::cast_slice(&vertices))),
+                ("scene indices", vk::BufferUsageFlags::INDEX_BUFFER, nonempty(bytemuck::cast_slice(&indices))),
+                ("frame uniforms", vk::BufferUsageFlags::UNIFORM_BUFFER, bytemuck::bytes_of(&frame)),
+                ("objects", ssbo, nonempty(bytemuck::cast_slice(&objects))),
+                ("lights", ssbo, nonempty(bytemuck::cast_slice(&lights))),
+                ("shadow views", ssbo, nonempty(bytemuck::cast_slice(&views))),
+            ],
+        )?;
+        let [vertices, indices, frame, objects, lights, views]: [Buffer; 6] =
+            uploaded.try_into().map_err(|_| umbra_vk::VkError::InvalidDesc {
+                what: "scene upload",
+                why: "upload_many returned a different number of buffers".into(),
+            })?;
         let set = DescriptorSet::new(
             ctx,
             "scene set",

@@ -97,18 +97,32 @@ impl Buffer {
 
     /// Creates a device-local buffer holding `data`, uploaded through a staging buffer.
     pub fn with_data(ctx: &Context, name: &str, usage: vk::BufferUsageFlags, data: &[u8]) -> VkResult<Self> {
-        let buffer = Buffer::new(ctx, name, BufferDesc::gpu_only(data.len() as u64, usage))?;
-        let staging = Buffer::new(
-            ctx,
-            &format!("{name} (staging)"),
-            BufferDesc::cpu_to_gpu(data.len() as u64, vk::BufferUsageFlags::TRANSFER_SRC),
-        )?;
-        let mut staging = staging;
-        staging.write(0, data)?;
+        let mut buffers = Buffer::upload_many(ctx, &[(name, usage, data)])?;
+        buffers.pop().ok_or(VkError::InvalidDesc { what: "upload", why: format!("{name}: no buffer came back") })
+    }
+
+    /// Creates one device-local buffer per `(name, usage, data)` and uploads them all with a
+    /// single submission (one staging buffer each, every copy in one command buffer).
+    pub fn upload_many(ctx: &Context, uploads: &[(&str, vk::BufferUsageFlags, &[u8])]) -> VkResult<Vec<Self>> {
+        let mut pairs = Vec::with_capacity(uploads.len());
+        for &(name, usage, data) in uploads {
+            let size = data.len() as u64;
+            let buffer = Buffer::new(ctx, name, BufferDesc::gpu_only(size, usage))?;
+            let mut staging = Buffer::new(
+                ctx,
+                &format!("{name} (staging)"),
+                BufferDesc::cpu_to_gpu(size, vk::BufferUsageFlags::TRANSFER_SRC),
+            )?;
+            staging.write(0, data)?;
+            pairs.push((staging, buffer));
+        }
         let mut rec = ctx.begin_commands("upload")?;
-        rec.copy_buffer(&staging, &buffer, data.len() as u64);
+        for (staging, buffer) in &pairs {
+            rec.copy_buffer(staging, buffer, buffer.desc.size);
+        }
+        rec.transfer_to_reads();
         ctx.submit_and_wait(rec)?;
-        Ok(buffer)
+        Ok(pairs.into_iter().map(|(_, buffer)| buffer).collect())
     }
 
     /// Writes `data` at `offset` into a host-visible buffer.
