@@ -369,8 +369,7 @@ fn three_hundred_overlapping_volumes_count_past_255() {
 /// surface must leave every pixel at 0.
 fn nonzero_after_counting(ctx: &Context, triangles: &[Vec4], w: u32, h: u32) -> u64 {
     use umbra::vk::{
-        vk, Buffer, DepthState, GraphicsPipeline, GraphicsPipelineDesc, PipelineLayout, QueryKind, QueryPool,
-        StencilFace, VertexAttribute,
+        vk, Buffer, DepthState, GraphicsPipeline, GraphicsPipelineDesc, PipelineLayout, StencilFace, VertexAttribute,
     };
     let format = ctx.capabilities().depth_stencil_format;
     let target = common::depth_target(ctx, "count", w, h, vk::ImageUsageFlags::empty());
@@ -385,31 +384,20 @@ fn nonzero_after_counting(ctx: &Context, triangles: &[Vec4], w: u32, h: u32) -> 
     let op = |o: vk::StencilOp| StencilFace { pass: o, ..StencilFace::KEEP };
     desc.stencil = Some((op(vk::StencilOp::INCREMENT_AND_WRAP), op(vk::StencilOp::DECREMENT_AND_WRAP)));
     let count = GraphicsPipeline::new(ctx, &layout, &desc).unwrap();
-    let mut probe_desc = GraphicsPipelineDesc::new("nonzero", umbra::shaders::fullscreen::TRIANGLE_VERT);
-    probe_desc.cull = vk::CullModeFlags::NONE;
-    probe_desc.depth = DepthState::NONE;
-    probe_desc.depth_format = format;
-    let nonzero = StencilFace { compare: vk::CompareOp::NOT_EQUAL, write_mask: 0, ..StencilFace::KEEP };
-    probe_desc.stencil = Some((nonzero, nonzero));
-    let probe = GraphicsPipeline::new(ctx, &layout, &probe_desc).unwrap();
+    let probe = common::StencilProbe::new(ctx, &layout, vk::CompareOp::NOT_EQUAL);
     let bytes: &[u8] = umbra::vk::bytemuck::cast_slice(triangles);
     let vertices = Buffer::with_data(ctx, "clip triangles", vk::BufferUsageFlags::VERTEX_BUFFER, bytes).unwrap();
-    let queries = QueryPool::new(ctx, "nonzero pixels", QueryKind::Occlusion, 1).unwrap();
     let mut rec = ctx.begin_commands("watertight").unwrap();
-    rec.reset_queries(&queries);
+    probe.reset(&mut rec);
     common::begin_depth_pass(&mut rec, &target);
     rec.bind_pipeline(&count);
     rec.set_stencil_reference(0);
     rec.bind_vertex_buffer(&vertices);
     rec.draw(triangles.len() as u32);
-    rec.bind_pipeline(&probe);
-    rec.set_stencil_reference(0);
-    rec.begin_query(&queries, 0);
-    rec.draw(3);
-    rec.end_query(&queries, 0);
+    probe.record(&mut rec);
     rec.end_rendering();
     ctx.submit_and_wait(rec).unwrap();
-    queries.results().unwrap()[0]
+    probe.pixels()
 }
 
 #[test]

@@ -120,12 +120,9 @@ fn three_hundred_in_and_out(ctx: &umbra::vk::Context, decrement: vk::StencilOp, 
     desc.stencil = Some((op(increment), op(increment)));
     let up = GraphicsPipeline::new(ctx, &layout, &desc).unwrap();
     // Then count the pixels whose stencil is still 0.
-    let zero = umbra::vk::StencilFace { compare: vk::CompareOp::EQUAL, write_mask: 0, ..umbra::vk::StencilFace::KEEP };
-    desc.stencil = Some((zero, zero));
-    let probe = GraphicsPipeline::new(ctx, &layout, &desc).unwrap();
-    let queries = QueryPool::new(ctx, "lit pixels", QueryKind::Occlusion, 1).unwrap();
+    let probe = common::StencilProbe::new(ctx, &layout, vk::CompareOp::EQUAL);
     let mut rec = ctx.begin_commands("300 in and out").unwrap();
-    rec.reset_queries(&queries);
+    probe.reset(&mut rec);
     common::begin_depth_pass(&mut rec, &depth);
     rec.bind_pipeline(&down);
     rec.set_stencil_reference(0);
@@ -136,14 +133,10 @@ fn three_hundred_in_and_out(ctx: &umbra::vk::Context, decrement: vk::StencilOp, 
     for _ in 0..300 {
         rec.draw(3);
     }
-    rec.bind_pipeline(&probe);
-    rec.set_stencil_reference(0);
-    rec.begin_query(&queries, 0);
-    rec.draw(3);
-    rec.end_query(&queries, 0);
+    probe.record(&mut rec);
     rec.end_rendering();
     ctx.submit_and_wait(rec).unwrap();
-    queries.results().unwrap()[0]
+    probe.pixels()
 }
 
 #[test]

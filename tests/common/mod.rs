@@ -73,5 +73,48 @@ pub fn begin_depth_pass<'a>(rec: &mut umbra::vk::Recorder<'a>, depth: &'a umbra:
     });
 }
 
+/// A full-screen draw that counts, with an occlusion query, the pixels whose stencil value
+/// passes `compare` against reference 0 (stencil left unchanged).
+pub struct StencilProbe {
+    pipeline: umbra::vk::GraphicsPipeline,
+    queries: umbra::vk::QueryPool,
+}
+
+impl StencilProbe {
+    /// A probe for a depth/stencil target of the device's preferred format.
+    pub fn new(ctx: &Context, layout: &umbra::vk::PipelineLayout, compare: umbra::vk::vk::CompareOp) -> Self {
+        use umbra::vk::{vk, DepthState, GraphicsPipeline, GraphicsPipelineDesc, QueryKind, QueryPool, StencilFace};
+        let mut desc = GraphicsPipelineDesc::new("stencil probe", umbra::shaders::fullscreen::TRIANGLE_VERT);
+        desc.cull = vk::CullModeFlags::NONE;
+        desc.depth = DepthState::NONE;
+        desc.depth_format = ctx.capabilities().depth_stencil_format;
+        let face = StencilFace { compare, write_mask: 0, ..StencilFace::KEEP };
+        desc.stencil = Some((face, face));
+        Self {
+            pipeline: GraphicsPipeline::new(ctx, layout, &desc).expect("probe pipeline"),
+            queries: QueryPool::new(ctx, "stencil probe", QueryKind::Occlusion, 1).expect("probe query"),
+        }
+    }
+
+    /// Resets the query; record before the rendering pass.
+    pub fn reset<'a>(&'a self, rec: &mut umbra::vk::Recorder<'a>) {
+        rec.reset_queries(&self.queries);
+    }
+
+    /// Draws the probe (inside the rendering pass, after the stencil was written).
+    pub fn record<'a>(&'a self, rec: &mut umbra::vk::Recorder<'a>) {
+        rec.bind_pipeline(&self.pipeline);
+        rec.set_stencil_reference(0);
+        rec.begin_query(&self.queries, 0);
+        rec.draw(3);
+        rec.end_query(&self.queries, 0);
+    }
+
+    /// Pixels that passed, once the submission completed.
+    pub fn pixels(&self) -> u64 {
+        self.queries.results().expect("probe result")[0]
+    }
+}
+
 /// Test image size (small: CPU drivers).
 pub const SIZE: (u32, u32) = (256, 192);
