@@ -78,12 +78,15 @@ impl Scene {
         self.objects.iter().filter_map(|o| self.meshes.get(o.mesh)).map(Mesh::triangle_count).sum()
     }
 
+    /// World-space bounds of each object (`None` where its mesh index is out of range), in
+    /// object order. Walks every mesh's positions: compute once per frame and share.
+    pub fn object_bounds(&self) -> Vec<Option<Aabb>> {
+        self.objects.iter().map(|o| self.meshes.get(o.mesh).map(|m| m.bounds().transformed(&o.transform))).collect()
+    }
+
     /// World-space bounds of every object.
     pub fn bounds(&self) -> Aabb {
-        self.objects
-            .iter()
-            .filter_map(|o| self.meshes.get(o.mesh).map(|m| m.bounds().transformed(&o.transform)))
-            .fold(Aabb::EMPTY, Aabb::union)
+        self.object_bounds().into_iter().flatten().fold(Aabb::EMPTY, Aabb::union)
     }
 
     /// Points the camera at the scene from the front-right-above, far enough to see it all.

@@ -232,6 +232,8 @@ impl Renderer {
             scene.camera
         };
         let camera = camera_used.view_proj(aspect);
+        // Each object's world bounds, once per frame, for every light's fitting and mode choice.
+        let boxes = scene.object_bounds();
 
         // Shadow maps: fit each light's views, size its map, and note what the GPU reads.
         let settings = *self.shadow_map.settings();
@@ -240,7 +242,7 @@ impl Renderer {
         let mut fitted: Vec<Option<LightViews>> = vec![None; scene.lights.len()];
         for plan in lights.iter_mut().filter(|l| l.recorded && l.technique == Technique::ShadowMap) {
             let light = &scene.lights[plan.light];
-            let Some(views) = frustum::fit(light, scene, camera) else {
+            let Some(views) = frustum::fit(light, scene, &boxes, camera) else {
                 plan.note = Some("no caster can shadow a visible receiver: no shadow map rendered".into());
                 continue;
             };
@@ -275,6 +277,7 @@ impl Renderer {
                 let v = volumes::build_light(
                     scene,
                     &adjacency,
+                    &boxes,
                     light,
                     &camera_used,
                     aspect,

@@ -36,21 +36,21 @@ pub(crate) struct LightViews {
     pub casters: Vec<usize>,
 }
 
-/// Fits the views of `light`, or `None` when no caster can shadow a visible receiver.
-pub(crate) fn fit(light: &Light, scene: &Scene, camera_view_proj: Mat4) -> Option<LightViews> {
-    let boxes: Vec<Option<Aabb>> =
-        scene.objects.iter().map(|o| scene.meshes.get(o.mesh).map(|m| m.bounds().transformed(&o.transform))).collect();
+/// Fits the views of `light`, or `None` when no caster can shadow a visible receiver. `boxes`
+/// holds each object's world bounds (`Scene::object_bounds`).
+pub(crate) fn fit(light: &Light, scene: &Scene, boxes: &[Option<Aabb>], camera_view_proj: Mat4) -> Option<LightViews> {
+    let bounds = |i: usize| boxes.get(i).copied().flatten();
     let casters: Vec<usize> =
-        (0..scene.objects.len()).filter(|&i| scene.objects[i].casts_shadows && boxes[i].is_some()).collect();
+        (0..scene.objects.len()).filter(|&i| scene.objects[i].casts_shadows && bounds(i).is_some()).collect();
     let receivers: Vec<Aabb> = (0..scene.objects.len())
         .filter(|&i| scene.objects[i].receives_shadows)
-        .filter_map(|i| boxes[i])
+        .filter_map(bounds)
         .filter(|b| intersects_frustum(camera_view_proj, b))
         .collect();
     if casters.is_empty() || receivers.is_empty() {
         return None;
     }
-    let caster_boxes: Vec<Aabb> = casters.iter().filter_map(|&i| boxes[i]).collect();
+    let caster_boxes: Vec<Aabb> = casters.iter().filter_map(|&i| bounds(i)).collect();
     let mut fitted = match light.kind() {
         LightKind::Directional => directional(light.position.xyz(), &caster_boxes, &receivers)?,
         LightKind::Spot if light.spot.is_some_and(|s| s.outer_deg <= MAX_SPOT_DEG) => {
@@ -60,7 +60,7 @@ pub(crate) fn fit(light: &Light, scene: &Scene, camera_view_proj: Mat4) -> Optio
     };
     // Front to back from the light: cheap, and it lets early depth reject hidden casters.
     let key = |i: &usize| {
-        let c = boxes[*i].map(|b| b.center()).unwrap_or_default();
+        let c = bounds(*i).map(|b| b.center()).unwrap_or_default();
         if light.position.w == 0.0 {
             -c.dot(light.position.xyz())
         } else {

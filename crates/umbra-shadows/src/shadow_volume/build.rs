@@ -32,10 +32,13 @@ pub(crate) struct LightVolumes {
 }
 
 /// Builds the volumes of `light` for every caster of `scene`, appending their vertices to
-/// `vertices`. `adjacency[i]` is mesh `i`'s welded connectivity.
+/// `vertices`. `adjacency[i]` is mesh `i`'s welded connectivity; `boxes` each object's world
+/// bounds (`Scene::object_bounds`).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn build_light(
     scene: &Scene,
     adjacency: &[Arc<Adjacency>],
+    boxes: &[Option<Aabb>],
     light: &Light,
     camera: &Camera,
     aspect: f32,
@@ -51,7 +54,7 @@ pub(crate) fn build_light(
         .filter(|(_, o)| o.casts_shadows)
         .filter_map(|(i, o)| {
             let adj = adjacency.get(o.mesh)?;
-            let mesh = scene.meshes.get(o.mesh)?;
+            let bounds = boxes.get(i).copied().flatten()?;
             // The light in the caster's object space: facing is decided there.
             let local = o.transform.inverse() * light.position;
             let volume = Volume::build(adj, local);
@@ -59,7 +62,7 @@ pub(crate) fn build_light(
                 VolumeMode::ZPass => Counting::ZPass,
                 VolumeMode::ZFail => Counting::ZFail,
                 VolumeMode::Auto => {
-                    if near_region.may_touch(&mesh.bounds().transformed(&o.transform)) {
+                    if near_region.may_touch(&bounds) {
                         Counting::ZFail
                     } else {
                         Counting::ZPass
