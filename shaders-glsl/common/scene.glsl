@@ -17,7 +17,8 @@ struct Light {
     vec4 radiance;       // rgb = colour * intensity
     vec4 spot_direction; // xyz = axis the spot shines along, w = cos(outer angle)
     vec4 spot_params;    // x = cos(inner angle), y = 1 for a spot light,
-                         // z = shadow kind (SHADOW_NONE, SHADOW_2D, SHADOW_CUBE),
+                         // z = shadow kind (SHADOW_NONE, SHADOW_2D, SHADOW_CUBE,
+                         //      SHADOW_SILHOUETTE),
                          // w = index of its first view in `shadow_views`
     vec4 shadow_params;  // x = normal offset (world units), y = shadow-map texel size (1/res),
                          // z = near, w = far of perspective maps (spot, cube faces)
@@ -26,6 +27,7 @@ struct Light {
 const uint SHADOW_NONE = 0u;
 const uint SHADOW_2D = 1u;
 const uint SHADOW_CUBE = 2u;
+const uint SHADOW_SILHOUETTE = 3u; // a 2D depth map plus its silhouette map
 
 layout(set = 0, binding = 0, std140) uniform Frame {
     mat4 view_proj;

@@ -1,10 +1,13 @@
 #version 460
 // Forward pass per light, blended additively: Lambert's law, albedo * radiance * max(N.L, 0),
-// with inverse-square falloff for point and spot lights, a smooth spot cone, and the light's
-// shadow test (shadow_map/lookup.glsl; visibility 1 when the light casts no shadows).
+// with inverse-square falloff for point and spot lights, a smooth spot cone
+// (forward/lambert.glsl), and the light's shadow test: a shadow-map lookup
+// (shadow_map/lookup.glsl), a silhouette-map lookup (silhouette_map/lookup.glsl), or
+// visibility 1 when the light casts no shadows here.
 // Surfaces are lit on both sides (open meshes show their inside through holes).
 #include "common/scene.glsl"
-#include "shadow_map/lookup.glsl"
+#include "forward/lambert.glsl"
+#include "silhouette_map/lookup.glsl"
 
 layout(location = 0) in vec3 world_position;
 layout(location = 1) in vec3 world_normal;
@@ -18,20 +21,18 @@ void main() {
     if (!gl_FrontFacing) {
         n = -n;
     }
-    // Homogeneous light vector: for w = 0 it is the direction itself.
-    vec3 to_light = l.position.xyz - world_position * l.position.w;
-    float dist2 = max(dot(to_light, to_light), 1e-12);
-    vec3 dir = to_light * inversesqrt(dist2);
-    float attenuation = l.position.w == 0.0 ? 1.0 : 1.0 / dist2;
-    if (l.spot_params.y > 0.5) {
-        float c = dot(-dir, normalize(l.spot_direction.xyz));
-        attenuation *= smoothstep(l.spot_direction.w, l.spot_params.x, c);
-    }
-    float lambert = max(dot(n, dir), 0.0);
-    if (lambert * attenuation <= 0.0) {
+    float lambert = lambert_attenuated(l, world_position, n);
+    if (lambert <= 0.0) {
         discard; // adds nothing; skips the shadow lookup
     }
-    bool receives = objects[push.object].albedo.a > 0.5;
-    float visibility = receives ? shadow_visibility(l, world_position, n) : 1.0;
-    out_color = vec4(albedo * l.radiance.rgb * (lambert * attenuation * visibility), 0.0);
+    float visibility = 1.0;
+    if (objects[push.object].albedo.a > 0.5) {
+        if (uint(l.spot_params.z) == SHADOW_SILHOUETTE) {
+            bool reconstructed;
+            visibility = silhouette_visibility(l, world_position, n, reconstructed);
+        } else {
+            visibility = shadow_visibility(l, world_position, n);
+        }
+    }
+    out_color = vec4(albedo * l.radiance.rgb * (lambert * visibility), 0.0);
 }

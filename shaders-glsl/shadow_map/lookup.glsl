@@ -37,23 +37,36 @@ int pcf_radius() {
     return SHADOW_FILTER == 3u ? 2 : (SHADOW_FILTER == 2u ? 1 : 0);
 }
 
-float lookup_2d(Light l, vec3 p) {
+// Projects p into light l's 2D map: its texture coordinates and the depth it compares with.
+// False when p lies outside the map's frustum (the caller applies OUTSIDE_LIT).
+bool project_2d(Light l, vec3 p, out vec2 uv, out float depth) {
+    uv = vec2(0.0);
+    depth = 1.0;
     vec4 clip = shadow_views[uint(l.spot_params.w)] * vec4(p, 1.0);
     if (clip.w <= 0.0) {
-        return OUTSIDE_LIT ? 1.0 : 0.0;
+        return false;
     }
     vec3 ndc = clip.xyz / clip.w;
     if (any(greaterThan(abs(ndc.xy), vec2(1.0)))) {
-        return OUTSIDE_LIT ? 1.0 : 0.0;
+        return false;
     }
     // The shadow pass used umbra's y-up viewport: row 0 is ndc.y = +1.
-    vec2 uv = vec2(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y);
+    uv = vec2(0.5 + 0.5 * ndc.x, 0.5 - 0.5 * ndc.y);
     // Beyond the far plane (a receiver behind every caster) compares as depth 1.
-    float depth = clamp(ndc.z, 0.0, 1.0);
+    depth = clamp(ndc.z, 0.0, 1.0);
     if (l.position.w != 0.0) {
         // Spot: depth along the axis, through the same formula as the cube faces.
         float z = dot(p - l.position.xyz, normalize(l.spot_direction.xyz));
         depth = perspective_depth(z, l.shadow_params.z, l.shadow_params.w);
+    }
+    return true;
+}
+
+float lookup_2d(Light l, vec3 p) {
+    vec2 uv;
+    float depth;
+    if (!project_2d(l, p, uv, depth)) {
+        return OUTSIDE_LIT ? 1.0 : 0.0;
     }
     int r = pcf_radius();
     if (r == 0) {

@@ -19,6 +19,16 @@ pub enum RenderError {
         /// The technique it asked for.
         technique: Technique,
     },
+    /// A light's kind cannot use the technique it asks for.
+    #[error("light {light} asks for {technique:?}: {why}")]
+    UnsupportedLight {
+        /// Index of the light.
+        light: usize,
+        /// The technique it asked for.
+        technique: Technique,
+        /// Why, and what to use instead.
+        why: String,
+    },
     /// A shadow map's resolution is outside 64..=the device limit.
     #[error("shadow map of light {light}: resolution {resolution}: {why}")]
     InvalidShadowMap {

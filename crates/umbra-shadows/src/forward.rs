@@ -97,7 +97,8 @@ impl Forward {
     }
 }
 
-fn draw_objects<'a>(
+/// Draws every object with the bound pipeline, light index `light` in the push constants.
+pub(crate) fn draw_objects<'a>(
     rec: &mut Recorder<'a>,
     layout: &'a PipelineLayout,
     gpu: &'a GpuScene,

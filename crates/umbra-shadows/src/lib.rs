@@ -10,6 +10,7 @@
 
 #![warn(missing_docs)]
 
+pub mod diagnostics;
 mod error;
 mod forward;
 mod gpu_scene;
@@ -21,8 +22,9 @@ pub mod shadow_volume;
 pub mod silhouette_map;
 mod timing;
 
+pub use diagnostics::{LightDiagnostics, PixelClass, SilhouetteMapImage};
 pub use error::{RenderError, RenderResult};
-pub use plan::{CasterMode, LightPlan, ShadowMapReport, ShadowVolumeReport};
+pub use plan::{CasterMode, LightPlan, ShadowMapReport, ShadowVolumeReport, SilhouetteMapReport};
 pub use renderer::{Frame, Renderer, RendererDesc, COLOR_FORMAT};
 pub use report::{FrameReport, SceneSummary};
 pub use shadow_map::{DepthBias, ShadowFilter, ShadowMapSettings};

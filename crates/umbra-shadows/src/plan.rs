@@ -28,6 +28,8 @@ pub struct LightPlan {
     pub shadow_map: Option<ShadowMapReport>,
     /// Its shadow volumes this frame, if any.
     pub shadow_volume: Option<ShadowVolumeReport>,
+    /// Its silhouette map this frame, if any (its depth map is `shadow_map`).
+    pub silhouette_map: Option<SilhouetteMapReport>,
     /// What the renderer decided beyond the plan (e.g. a shadow map not needed this frame).
     pub note: Option<String>,
 }
@@ -45,6 +47,24 @@ pub struct ShadowMapReport {
     pub far: f32,
     /// Objects drawn into it.
     pub casters: usize,
+    /// World units per texel along the map's x and y (orthographic maps: directional lights).
+    pub texel_size: Option<[f32; 2]>,
+}
+
+/// A light's silhouette map as rendered in one frame (Sen et al. Table 1's statistics).
+#[derive(Clone, Debug, Serialize)]
+pub struct SilhouetteMapReport {
+    /// Texels per side (the depth map's resolution).
+    pub resolution: u32,
+    /// Silhouette edges drawn into it.
+    pub silhouette_edges: usize,
+    /// CPU time to find them (facing and silhouettes of every caster).
+    pub cpu_extract_ms: f64,
+    /// Pixels of the image whose four depth comparisons disagreed, so the silhouette points
+    /// decided them (counted by the diagnostics pass: `RendererDesc::diagnostics`).
+    pub silhouette_pixels: Option<u64>,
+    /// `silhouette_pixels` over the image's pixel count (Chan–Durand's P).
+    pub silhouette_fraction: Option<f64>,
 }
 
 /// A light's shadow volumes as built and counted in one frame.
@@ -83,7 +103,14 @@ pub struct CasterMode {
 }
 
 /// Techniques this build records (the others return [`RenderError::TechniqueUnavailable`]).
-pub const AVAILABLE_TECHNIQUES: &[Technique] = &[Technique::Unshadowed, Technique::ShadowMap, Technique::ShadowVolume];
+pub const AVAILABLE_TECHNIQUES: &[Technique] =
+    &[Technique::Unshadowed, Technique::ShadowMap, Technique::ShadowVolume, Technique::SilhouetteMap];
+
+/// Why silhouette maps refuse lights that need a cube map.
+pub(crate) const SILHOUETTE_CUBE_UNSUPPORTED: &str =
+    "silhouette maps need one 2D depth map, and point lights (and spots \
+     wider than 80°) use cube maps, whose silhouette texels would need neighbours across faces; use a spot or \
+     directional light, or shadow_map / shadow_volume for this light";
 
 /// Decides, per light, what to record.
 pub fn plan_lights(scene: &Scene) -> RenderResult<Vec<LightPlan>> {
@@ -102,6 +129,13 @@ pub fn plan_lights(scene: &Scene) -> RenderResult<Vec<LightPlan>> {
             if skip.is_none() && !AVAILABLE_TECHNIQUES.contains(&l.technique) {
                 return Err(RenderError::TechniqueUnavailable { light: i, technique: l.technique });
             }
+            if skip.is_none() && l.technique == Technique::SilhouetteMap && l.kind() == LightKind::Point {
+                return Err(RenderError::UnsupportedLight {
+                    light: i,
+                    technique: l.technique,
+                    why: SILHOUETTE_CUBE_UNSUPPORTED.into(),
+                });
+            }
             Ok(LightPlan {
                 light: i,
                 name: l.name.clone(),
@@ -111,6 +145,7 @@ pub fn plan_lights(scene: &Scene) -> RenderResult<Vec<LightPlan>> {
                 skipped_because: skip.map(str::to_owned),
                 shadow_map: None,
                 shadow_volume: None,
+                silhouette_map: None,
                 note: None,
             })
         })
@@ -141,5 +176,18 @@ mod tests {
             plan_lights(&s),
             Err(RenderError::TechniqueUnavailable { light: 0, technique: Technique::Hybrid })
         ));
+    }
+
+    #[test]
+    fn silhouette_maps_refuse_point_lights_with_a_reason() {
+        let mut s = umbra_scene::procedural::build("ball").unwrap();
+        s.lights = vec![Light::point(Vec3::new(0.0, 4.0, 0.0), 10.0)];
+        s.lights[0].technique = Technique::SilhouetteMap;
+        let err = plan_lights(&s).unwrap_err();
+        assert!(matches!(err, RenderError::UnsupportedLight { light: 0, technique: Technique::SilhouetteMap, .. }));
+        assert!(err.to_string().contains("cube map"), "{err}");
+        s.lights[0] = Light::spot(Vec3::new(0.0, 4.0, 0.0), -Vec3::Y, 20.0, 30.0, 10.0);
+        s.lights[0].technique = Technique::SilhouetteMap;
+        assert!(plan_lights(&s).is_ok());
     }
 }

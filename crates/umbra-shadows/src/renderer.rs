@@ -6,17 +6,20 @@
 //! 2. upload: the scene's meshes, objects, lights, shadow views and camera (`gpu_scene`);
 //! 3. `ambient`: depth plus ambient term for every object;
 //! 4. per planned light: its technique's passes (`shadow_map N`: depth from the light;
-//!    `shadow_volume N`: stencil counts), then `light N (kind)`, its additive lighting with
-//!    the shadow test (map lookup, or stencil == 0); with volume overdraw on, `volume overdraw
-//!    N` draws the light's volumes into the overdraw image;
+//!    `silhouette_map N`: the silhouette points on the dual grid; `shadow_volume N`: stencil
+//!    counts), then `light N (kind)`, its additive lighting with the shadow test (map or
+//!    silhouette-map lookup, or stencil == 0). Diagnostic passes follow when asked for:
+//!    `volume overdraw N` (volumes into the overdraw image), `silhouette diagnostics N` (the
+//!    classification and silhouette-point views);
 //! 5. `readback`: copy the colour target into a host-visible buffer.
 //!
 //! Every pass is a debug label with timestamps around it; the [`FrameReport`] lists them.
 
+use crate::diagnostics::{self, DiagnosticTargets, LightDiagnostics, SilhouetteMapImage};
 use crate::forward::Forward;
 use crate::gpu_scene::{self, GpuScene, GpuShadow};
-use crate::plan::{plan_lights, ShadowMapReport};
-use crate::plan::{CasterMode, ShadowVolumeReport};
+use crate::plan::{plan_lights, LightPlan, ShadowMapReport};
+use crate::plan::{CasterMode, ShadowVolumeReport, SilhouetteMapReport, SILHOUETTE_CUBE_UNSUPPORTED};
 use crate::report::{FrameReport, SceneSummary};
 use crate::shadow_map::frustum::{self, LightViews, MapKind};
 use crate::shadow_map::pass::{self, ShadowMapPass};
@@ -24,6 +27,8 @@ use crate::shadow_map::ShadowMapSettings;
 use crate::shadow_volume::build::{self as volumes, Counting, LightVolumes};
 use crate::shadow_volume::pass::{ShadowVolumePass, VolumeBindings};
 use crate::shadow_volume::{FarPlane, ShadowVolumeSettings};
+use crate::silhouette_map::edges::{self, EdgeInstance, LightEdges};
+use crate::silhouette_map::pass::SilhouetteMapPass;
 use crate::timing::{PassLog, PassTimer};
 use crate::{RenderError, RenderResult};
 use std::path::Path;
@@ -50,12 +55,22 @@ pub struct RendererDesc {
     pub shadow_map: ShadowMapSettings,
     /// Shadow-volume settings for lights whose technique is `shadow_volume`.
     pub shadow_volume: ShadowVolumeSettings,
+    /// Render the diagnostic views of every silhouette-map light ([`Frame::diagnostics`]) and
+    /// count its silhouette pixels: one more pass and readback per such light, reported as a
+    /// diagnostic pass. Off by default.
+    pub diagnostics: bool,
 }
 
 impl RendererDesc {
     /// A `width` × `height` target with default technique settings.
     pub fn new(width: u32, height: u32) -> Self {
-        Self { width, height, shadow_map: ShadowMapSettings::DEFAULT, shadow_volume: ShadowVolumeSettings::default() }
+        Self {
+            width,
+            height,
+            shadow_map: ShadowMapSettings::DEFAULT,
+            shadow_volume: ShadowVolumeSettings::default(),
+            diagnostics: false,
+        }
     }
 }
 
@@ -73,6 +88,8 @@ pub struct Frame {
     /// Volume overdraw (RGBA8, red = volume fragments per pixel, saturating at 255), when the
     /// renderer was built with `shadow_volume.overdraw` and a light used shadow volumes.
     pub overdraw: Option<Vec<u8>>,
+    /// Per silhouette-map light, its diagnostic views (with `RendererDesc::diagnostics`).
+    pub diagnostics: Vec<LightDiagnostics>,
 }
 
 impl Frame {
@@ -113,6 +130,9 @@ pub struct Renderer {
     forward: Forward,
     shadow_map: ShadowMapPass,
     shadow_volume: ShadowVolumePass,
+    silhouette_map: SilhouetteMapPass,
+    /// Classification and silhouette-point targets (with `diagnostics`).
+    diagnostic_targets: Option<DiagnosticTargets>,
     /// Welded connectivity per mesh, kept while the mesh is unchanged.
     adjacency: Vec<(MeshKey, Arc<Adjacency>)>,
     /// Volume overdraw target and its readback (with `shadow_volume.overdraw`).
@@ -180,6 +200,12 @@ impl Renderer {
             return Err(ctx.unsupported("shadow volumes with FarPlane::DepthClamp (depthClamp)").into());
         }
         let shadow_volume = ShadowVolumePass::new(ctx, &layout, depth_format, &desc.shadow_volume)?;
+        let silhouette_map = SilhouetteMapPass::new(ctx, &layout, COLOR_FORMAT, depth_format, &desc.shadow_map)?;
+        let diagnostic_targets = if desc.diagnostics {
+            Some(DiagnosticTargets::new(ctx, COLOR_FORMAT, desc.width, desc.height)?)
+        } else {
+            None
+        };
         let overdraw = if desc.shadow_volume.overdraw {
             let image = Image::new(
                 ctx,
@@ -208,6 +234,8 @@ impl Renderer {
             forward,
             shadow_map,
             shadow_volume,
+            silhouette_map,
+            diagnostic_targets,
             adjacency: Vec::new(),
             overdraw,
         })
@@ -224,7 +252,8 @@ impl Renderer {
         let mut lights = plan_lights(scene)?;
         let aspect = self.desc.width as f32 / self.desc.height as f32;
         let volume_settings = self.desc.shadow_volume;
-        let uses_volumes = lights.iter().any(|l| l.recorded && l.technique == Technique::ShadowVolume);
+        let uses = |l: &LightPlan, t: Technique| l.recorded && l.technique == t;
+        let uses_volumes = lights.iter().any(|l| uses(l, Technique::ShadowVolume));
         // Shadow volumes reach infinity: the frame uses P_inf unless depth clamp does the job.
         let camera_used = if uses_volumes {
             volumes::volume_camera(&scene.camera, volume_settings.far_plane == FarPlane::Infinite)
@@ -234,22 +263,43 @@ impl Renderer {
         let camera = camera_used.view_proj(aspect);
         // Each object's world bounds, once per frame, for every light's fitting and mode choice.
         let boxes = scene.object_bounds();
+        if uses_volumes || lights.iter().any(|l| uses(l, Technique::SilhouetteMap)) {
+            self.update_adjacency(scene);
+        }
+        let adjacency: Vec<Arc<Adjacency>> = self.adjacency.iter().map(|(_, a)| Arc::clone(a)).collect();
 
-        // Shadow maps: fit each light's views, size its map, and note what the GPU reads.
+        // Shadow maps (also the depth maps of silhouette maps): fit each light's views, size
+        // its map, and note what the GPU reads.
         let settings = *self.shadow_map.settings();
         let mut shadows = vec![GpuShadow::default(); scene.lights.len()];
         let mut shadow_views = Vec::new();
         let mut fitted: Vec<Option<LightViews>> = vec![None; scene.lights.len()];
-        for plan in lights.iter_mut().filter(|l| l.recorded && l.technique == Technique::ShadowMap) {
+        let mut silhouettes: Vec<Option<LightEdges>> = vec![None; scene.lights.len()];
+        let mut edge_instances: Vec<EdgeInstance> = Vec::new();
+        let map_lights =
+            lights.iter_mut().filter(|l| uses(l, Technique::ShadowMap) || uses(l, Technique::SilhouetteMap));
+        for plan in map_lights {
             let light = &scene.lights[plan.light];
             let Some(views) = frustum::fit(light, scene, &boxes, camera) else {
                 plan.note = Some("no caster can shadow a visible receiver: no shadow map rendered".into());
                 continue;
             };
+            let silhouette = plan.technique == Technique::SilhouetteMap;
+            if silhouette && views.kind == MapKind::Cube {
+                return Err(RenderError::UnsupportedLight {
+                    light: plan.light,
+                    technique: plan.technique,
+                    why: SILHOUETTE_CUBE_UNSUPPORTED.into(),
+                });
+            }
             let resolution = light.shadow_map_size.unwrap_or(settings.resolution);
             self.shadow_map.prepare(&self.ctx, plan.light, resolution, views.kind)?;
             shadows[plan.light] = GpuShadow {
-                kind: if views.kind == MapKind::Cube { 2 } else { 1 },
+                kind: match (views.kind, silhouette) {
+                    (MapKind::Cube, _) => 2,
+                    (MapKind::Single, false) => 1,
+                    (MapKind::Single, true) => 3,
+                },
                 first_view: shadow_views.len() as u32,
                 normal_offset: settings.normal_offset,
                 texel: 1.0 / resolution as f32,
@@ -262,31 +312,46 @@ impl Renderer {
                 near: views.near,
                 far: views.far,
                 casters: views.casters.len(),
+                texel_size: (light.position.w == 0.0).then(|| frustum::texel_size(views.views[0], resolution)),
             });
+            if silhouette {
+                self.silhouette_map.prepare(&self.ctx, plan.light, resolution)?;
+                let e = edges::extract(scene, &adjacency, &views.casters, light, &mut edge_instances);
+                plan.silhouette_map = Some(SilhouetteMapReport {
+                    resolution,
+                    silhouette_edges: e.count as usize,
+                    cpu_extract_ms: e.cpu_ms,
+                    silhouette_pixels: None,
+                    silhouette_fraction: None,
+                });
+                silhouettes[plan.light] = Some(e);
+            }
             shadow_views.extend_from_slice(&views.views);
             fitted[plan.light] = Some(views);
         }
+        let edge_buffer = if edge_instances.is_empty() {
+            None
+        } else {
+            let bytes: &[u8] = bytemuck::cast_slice(&edge_instances);
+            Some(Buffer::with_data(&self.ctx, "silhouette edges", vk::BufferUsageFlags::VERTEX_BUFFER, bytes)?)
+        };
         // Shadow volumes: every caster's volume per light, built on the CPU.
         let mut built: Vec<Option<LightVolumes>> = vec![None; scene.lights.len()];
         let mut volume_vertices = Vec::new();
-        if uses_volumes {
-            self.update_adjacency(scene);
-            let adjacency: Vec<Arc<Adjacency>> = self.adjacency.iter().map(|(_, a)| Arc::clone(a)).collect();
-            for plan in lights.iter_mut().filter(|l| l.recorded && l.technique == Technique::ShadowVolume) {
-                let light = &scene.lights[plan.light];
-                let v = volumes::build_light(
-                    scene,
-                    &adjacency,
-                    &boxes,
-                    light,
-                    &camera_used,
-                    aspect,
-                    volume_settings.mode,
-                    &mut volume_vertices,
-                );
-                plan.shadow_volume = Some(volume_report(scene, &v));
-                built[plan.light] = Some(v);
-            }
+        for plan in lights.iter_mut().filter(|l| uses(l, Technique::ShadowVolume)) {
+            let light = &scene.lights[plan.light];
+            let v = volumes::build_light(
+                scene,
+                &adjacency,
+                &boxes,
+                light,
+                &camera_used,
+                aspect,
+                volume_settings.mode,
+                &mut volume_vertices,
+            );
+            plan.shadow_volume = Some(volume_report(scene, &v));
+            built[plan.light] = Some(v);
         }
         let volume_buffer = if volume_vertices.is_empty() {
             None
@@ -307,7 +372,34 @@ impl Renderer {
             .filter(|l| l.recorded)
             .map(|l| {
                 let has_map = fitted[l.light].is_some().then_some(l.light);
-                self.shadow_map.descriptor_set(&self.ctx, &self.shadow_set_layout, has_map)
+                let silhouette = self.silhouette_map.image(silhouettes[l.light].map(|_| l.light));
+                self.shadow_map.descriptor_set(&self.ctx, &self.shadow_set_layout, has_map, silhouette)
+            })
+            .collect::<RenderResult<Vec<_>>>()?;
+        // Pass 2 reads the depth map raw while it writes the silhouette map, which its set
+        // must not bind: the placeholder stands in.
+        let depth_sets = (0..scene.lights.len())
+            .map(|l| match silhouettes[l] {
+                Some(_) => self
+                    .shadow_map
+                    .descriptor_set(&self.ctx, &self.shadow_set_layout, Some(l), self.silhouette_map.image(None))
+                    .map(Some),
+                None => Ok(None),
+            })
+            .collect::<RenderResult<Vec<_>>>()?;
+        let diagnosed: Vec<usize> = match self.diagnostic_targets {
+            Some(_) => (0..scene.lights.len()).filter(|&l| silhouettes[l].is_some()).collect(),
+            None => Vec::new(),
+        };
+        let diagnostic_buffers = diagnosed
+            .iter()
+            .map(|&l| {
+                DiagnosticReadback::new(
+                    &self.ctx,
+                    self.desc.width,
+                    self.desc.height,
+                    self.silhouette_map.image(Some(l)),
+                )
             })
             .collect::<RenderResult<Vec<_>>>()?;
         // Poison the readback so a copy that never happened cannot pass for a frame.
@@ -315,7 +407,12 @@ impl Renderer {
         self.readback.write(0, &poison)?;
 
         let planned = lights.iter().filter(|l| l.recorded).count();
-        let passes = 2 + planned + fitted.iter().flatten().count() + 2 * volume_lights as usize;
+        let passes = 2
+            + planned
+            + fitted.iter().flatten().count()
+            + silhouettes.iter().flatten().count()
+            + diagnosed.len()
+            + 2 * volume_lights as usize;
         let timer = PassTimer::new(&self.ctx, passes)?;
         let mut log = PassLog::default();
         let mut rec = self.ctx.begin_commands("frame")?;
@@ -354,11 +451,26 @@ impl Renderer {
             read_only: false,
         };
         let mut overdraw_query = 0;
+        let mut diagnosed_so_far = 0;
         for (plan, shadow_set) in lights.iter().filter(|l| l.recorded).zip(&shadow_sets) {
             if let Some(views) = &fitted[plan.light] {
                 timer.begin(&mut rec, &mut log, format!("shadow_map {}", plan.light), Some(plan.light));
                 let first_view = shadows[plan.light].first_view;
                 self.shadow_map.record(&mut rec, &self.layout, &gpu, scene, plan.light, views, first_view, &mut log)?;
+                timer.end(&mut rec, &log);
+            }
+            if let (Some(e), Some(depth_set)) = (silhouettes[plan.light], &depth_sets[plan.light]) {
+                timer.begin(&mut rec, &mut log, format!("silhouette_map {}", plan.light), Some(plan.light));
+                self.silhouette_map.record_points(
+                    &mut rec,
+                    &self.layout,
+                    &gpu,
+                    depth_set,
+                    plan.light,
+                    edge_buffer.as_ref(),
+                    e,
+                    &mut log,
+                )?;
                 timer.end(&mut rec, &log);
             }
             let volumes = built[plan.light].as_ref().zip(volume_buffer.as_ref());
@@ -397,7 +509,7 @@ impl Renderer {
             rec.end_rendering();
             timer.end(&mut rec, &log);
             if let (Some((v, buffer)), Some((image, _)), Some(q)) = (volumes, &self.overdraw, &fragment_queries) {
-                timer.begin(&mut rec, &mut log, format!("volume overdraw {}", plan.light), Some(plan.light));
+                timer.begin_diagnostic(&mut rec, &mut log, format!("volume overdraw {}", plan.light), plan.light);
                 if overdraw_query == 0 {
                     rec.transition(&[(image, ImageState::Undefined, ImageState::ColorAttachment)]);
                 }
@@ -415,6 +527,47 @@ impl Renderer {
                 rec.end_rendering();
                 timer.end(&mut rec, &log);
                 overdraw_query += 1;
+            }
+            if let (Some(targets), true) = (&self.diagnostic_targets, diagnosed.contains(&plan.light)) {
+                timer.begin_diagnostic(
+                    &mut rec,
+                    &mut log,
+                    format!("silhouette diagnostics {}", plan.light),
+                    plan.light,
+                );
+                let was = if diagnosed_so_far == 0 { ImageState::Undefined } else { ImageState::TransferSrc };
+                let (class, points) = (&targets.classification, &targets.points);
+                rec.transition(&[
+                    (class, was, ImageState::ColorAttachment),
+                    (points, was, ImageState::ColorAttachment),
+                ]);
+                let color = [
+                    ColorAttachment { image: class, clear: Some(diagnostics::BACKGROUND) },
+                    ColorAttachment { image: points, clear: Some([0.0; 4]) },
+                ];
+                rec.begin_rendering(&RenderTargets { color: &color, depth: Some(keep_depth(None)) });
+                self.silhouette_map.record_diagnostics(
+                    &mut rec,
+                    &self.layout,
+                    &gpu,
+                    shadow_set,
+                    scene,
+                    plan.light as u32,
+                    &mut log,
+                );
+                rec.end_rendering();
+                let silmap = self.silhouette_map.image(Some(plan.light));
+                rec.transition(&[
+                    (class, ImageState::ColorAttachment, ImageState::TransferSrc),
+                    (points, ImageState::ColorAttachment, ImageState::TransferSrc),
+                    (silmap, ImageState::FragmentRead, ImageState::TransferSrc),
+                ]);
+                let out = &diagnostic_buffers[diagnosed_so_far];
+                rec.copy_image_to_buffer(class, 0, &out.classification);
+                rec.copy_image_to_buffer(points, 0, &out.points);
+                rec.copy_image_to_buffer(silmap, 0, &out.silhouette_map);
+                timer.end(&mut rec, &log);
+                diagnosed_so_far += 1;
             }
         }
         if let (Some((image, readback)), true) = (&self.overdraw, overdraw_query > 0) {
@@ -443,8 +596,21 @@ impl Renderer {
                 }
             }
         }
+        let image_pixels = u64::from(self.desc.width) * u64::from(self.desc.height);
+        let mut diagnostics = Vec::with_capacity(diagnosed.len());
+        for (&light, out) in diagnosed.iter().zip(&diagnostic_buffers) {
+            let d = out.read(light)?;
+            if let Some(r) = lights[light].silhouette_map.as_mut() {
+                let n = d.silhouette_pixels();
+                r.silhouette_pixels = Some(n);
+                r.silhouette_fraction = Some(n as f64 / image_pixels as f64);
+            }
+            diagnostics.push(d);
+        }
         let caps = self.ctx.capabilities();
-        let total_gpu_ms = passes.iter().map(|p| p.gpu_ms).sum::<Option<f64>>();
+        let sum = |diagnostic: bool| {
+            passes.iter().filter(|p| p.diagnostic == diagnostic).map(|p| p.gpu_ms).sum::<Option<f64>>()
+        };
         let report = FrameReport {
             device: caps.device_name.clone(),
             driver: format!("{} {}", caps.driver_name, caps.driver_info).trim().to_owned(),
@@ -455,11 +621,12 @@ impl Renderer {
             shadow_map_settings: settings,
             shadow_volume_settings: volume_settings,
             lights,
+            total_gpu_ms: sum(false),
+            diagnostic_gpu_ms: sum(true),
             passes,
-            total_gpu_ms,
             cpu_frame_ms: started.elapsed().as_secs_f64() * 1e3,
         };
-        Ok(Frame { width: self.desc.width, height: self.desc.height, rgba, report, overdraw })
+        Ok(Frame { width: self.desc.width, height: self.desc.height, rgba, report, overdraw, diagnostics })
     }
 }
 
@@ -505,5 +672,44 @@ fn volume_report(scene: &Scene, v: &LightVolumes) -> ShadowVolumeReport {
                 triangles: c.count as usize / 3,
             })
             .collect(),
+    }
+}
+
+/// Host-visible copies of one light's diagnostic views and silhouette map.
+struct DiagnosticReadback {
+    classification: Buffer,
+    points: Buffer,
+    silhouette_map: Buffer,
+    resolution: u32,
+}
+
+impl DiagnosticReadback {
+    fn new(ctx: &Context, width: u32, height: u32, silhouette_map: &Image) -> RenderResult<Self> {
+        let frame = BufferDesc::readback(4 * u64::from(width) * u64::from(height));
+        let resolution = silhouette_map.desc.width;
+        let points = BufferDesc::readback(8 * u64::from(resolution) * u64::from(resolution));
+        Ok(Self {
+            classification: Buffer::new(ctx, "diagnostics readback: classification", frame)?,
+            points: Buffer::new(ctx, "diagnostics readback: silhouette points", frame)?,
+            silhouette_map: Buffer::new(ctx, "diagnostics readback: silhouette map", points)?,
+            resolution,
+        })
+    }
+
+    fn read(&self, light: usize) -> RenderResult<LightDiagnostics> {
+        let raw = self.silhouette_map.read()?;
+        let points = raw
+            .chunks_exact(8)
+            .map(|c| {
+                let f = |b: &[u8]| f32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+                [f(&c[..4]), f(&c[4..])]
+            })
+            .collect();
+        Ok(LightDiagnostics {
+            light,
+            classification: self.classification.read()?,
+            points: self.points.read()?,
+            silhouette_map: Some(SilhouetteMapImage { resolution: self.resolution, points }),
+        })
     }
 }

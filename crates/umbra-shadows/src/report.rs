@@ -59,8 +59,11 @@ pub struct FrameReport {
     pub lights: Vec<LightPlan>,
     /// Every recorded pass, in order, with its GPU time.
     pub passes: Vec<PassReport>,
-    /// Sum of the passes' GPU times (`None` without timestamps).
+    /// Sum of the GPU times of the passes that make the image (`None` without timestamps);
+    /// diagnostic passes are not included.
     pub total_gpu_ms: Option<f64>,
+    /// Sum of the diagnostic passes' GPU times (0 when there were none).
+    pub diagnostic_gpu_ms: Option<f64>,
     /// CPU wall time of recording, submission and wait, in milliseconds.
     pub cpu_frame_ms: f64,
 }

@@ -16,6 +16,9 @@ pub struct PassReport {
     pub triangles: u64,
     /// GPU time between the timestamps around the pass (`None` without timestamp support).
     pub gpu_ms: Option<f64>,
+    /// A diagnostic pass (overdraw, classification views): not part of the technique's cost,
+    /// and left out of `FrameReport::total_gpu_ms`.
+    pub diagnostic: bool,
 }
 
 /// The passes recorded so far in a frame.
@@ -59,9 +62,19 @@ impl PassTimer {
 
     /// Opens a pass: label plus start timestamp.
     pub fn begin<'a>(&'a self, rec: &mut Recorder<'a>, log: &mut PassLog, name: String, light: Option<usize>) {
-        rec.begin_label(&name);
+        self.open(rec, log, PassReport { name, light, draws: 0, triangles: 0, gpu_ms: None, diagnostic: false });
+    }
+
+    /// Opens a diagnostic pass (see [`PassReport::diagnostic`]).
+    pub fn begin_diagnostic<'a>(&'a self, rec: &mut Recorder<'a>, log: &mut PassLog, name: String, light: usize) {
+        let pass = PassReport { name, light: Some(light), draws: 0, triangles: 0, gpu_ms: None, diagnostic: true };
+        self.open(rec, log, pass);
+    }
+
+    fn open<'a>(&'a self, rec: &mut Recorder<'a>, log: &mut PassLog, pass: PassReport) {
+        rec.begin_label(&pass.name);
         let index = 2 * log.passes.len() as u32;
-        log.passes.push(PassReport { name, light, draws: 0, triangles: 0, gpu_ms: None });
+        log.passes.push(pass);
         if let Some(p) = &self.pool {
             rec.write_timestamp(p, index);
         }

@@ -321,6 +321,14 @@ impl<'a> Recorder<'a> {
         unsafe { self.device().cmd_draw(self.cmd, count, 1, first, 0) };
     }
 
+    /// Draws `instances` instances of `count` vertices, from instance `first_instance`
+    /// (per-instance attributes advance once per instance).
+    pub fn draw_instanced(&mut self, count: u32, instances: u32, first_instance: u32) {
+        // SAFETY: recording inside a rendering pass with a bound pipeline (and vertex buffer
+        // when the pipeline reads one).
+        unsafe { self.device().cmd_draw(self.cmd, count, instances, 0, first_instance) };
+    }
+
     /// Draws `count` indices from `first_index`, adding `vertex_offset` to each.
     pub fn draw_indexed(&mut self, count: u32, first_index: u32, vertex_offset: i32) {
         // SAFETY: recording inside a rendering pass with bound pipeline and buffers.

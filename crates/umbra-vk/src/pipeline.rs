@@ -163,6 +163,9 @@ pub struct GraphicsPipelineDesc<'a> {
     pub vertex_stride: u32,
     /// Vertex attributes at binding 0.
     pub vertex_attributes: &'a [VertexAttribute],
+    /// Whether binding 0 advances per vertex or per instance (one record per instance, e.g.
+    /// an edge expanded into a quad by the vertex shader).
+    pub vertex_input_rate: vk::VertexInputRate,
     /// Primitive topology.
     pub topology: vk::PrimitiveTopology,
     /// Faces culled.
@@ -191,6 +194,7 @@ impl<'a> GraphicsPipelineDesc<'a> {
             specialization: &[],
             vertex_stride: 0,
             vertex_attributes: &[],
+            vertex_input_rate: vk::VertexInputRate::VERTEX,
             topology: vk::PrimitiveTopology::TRIANGLE_LIST,
             cull: vk::CullModeFlags::BACK,
             front_face: vk::FrontFace::COUNTER_CLOCKWISE,
@@ -299,7 +303,7 @@ impl GraphicsPipeline {
         let bindings = [vk::VertexInputBindingDescription {
             binding: 0,
             stride: desc.vertex_stride,
-            input_rate: vk::VertexInputRate::VERTEX,
+            input_rate: desc.vertex_input_rate,
         }];
         let attributes: Vec<_> = desc
             .vertex_attributes

@@ -158,6 +158,13 @@ fn cube(p: Vec3, casters: &[Aabb], receivers: &[Aabb]) -> LightViews {
     LightViews { kind: MapKind::Cube, views, near, far, casters: vec![] }
 }
 
+/// World units per texel along the map's x and y for an orthographic `view_proj` (clip x and
+/// y span 2 over the box's width and height).
+pub(crate) fn texel_size(view_proj: Mat4, resolution: u32) -> [f32; 2] {
+    let m = view_proj.transpose(); // rows as columns
+    [m.x_axis, m.y_axis].map(|row| 2.0 / (row.xyz().length() * resolution as f32))
+}
+
 fn corners(b: &Aabb) -> [Vec3; 8] {
     std::array::from_fn(|i| {
         Vec3::new(

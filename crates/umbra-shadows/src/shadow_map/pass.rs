@@ -27,20 +27,21 @@ pub(crate) struct ShadowMapPass {
     settings: ShadowMapSettings,
     pipeline: GraphicsPipeline,
     sampler: Sampler,
+    /// Nearest, no comparison: raw depth and silhouette points.
+    raw_sampler: Sampler,
     placeholder_2d: Image,
     placeholder_cube: Image,
     targets: Vec<Option<ShadowTarget>>,
 }
 
-/// Set 1 of the lighting pass: the 2D map and the cube map of the light being drawn.
+/// Set 1 of the lighting pass, for the light being drawn: 0 its 2D map and 1 its cube map
+/// (comparison sampler), 2 its 2D map read raw, 3 its silhouette map (both nearest, no
+/// comparison). Lights without one bind placeholders.
 pub(crate) fn shadow_set_layout(ctx: &Context) -> RenderResult<DescriptorSetLayout> {
     let ty = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
     let stages = vk::ShaderStageFlags::FRAGMENT;
-    Ok(DescriptorSetLayout::new(
-        ctx,
-        "shadow set layout",
-        &[Binding { binding: 0, ty, stages }, Binding { binding: 1, ty, stages }],
-    )?)
+    let bindings: Vec<Binding> = (0..4).map(|binding| Binding { binding, ty, stages }).collect();
+    Ok(DescriptorSetLayout::new(ctx, "shadow set layout", &bindings)?)
 }
 
 impl ShadowMapPass {
@@ -70,6 +71,11 @@ impl ShadowMapPass {
                 compare: Some(vk::CompareOp::LESS_OR_EQUAL),
             },
         )?;
+        let raw_sampler = Sampler::new(
+            ctx,
+            "shadow map raw sampler",
+            SamplerDesc { filter: vk::Filter::NEAREST, address: vk::SamplerAddressMode::CLAMP_TO_EDGE, compare: None },
+        )?;
         let usage = vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST;
         let placeholder_2d = Image::new(ctx, "no shadow map", ImageDesc::new_2d(FORMAT, 1, 1).usage(usage))?;
         let placeholder_cube = Image::new(ctx, "no shadow cube", ImageDesc::new_cube(FORMAT, 1).usage(usage))?;
@@ -80,7 +86,7 @@ impl ShadowMapPass {
         rec.clear_depth_image(&placeholder_cube, 1.0);
         rec.transition(&[(&placeholder_2d, dst, read), (&placeholder_cube, dst, read)]);
         ctx.submit_and_wait(rec)?;
-        Ok(Self { settings, pipeline, sampler, placeholder_2d, placeholder_cube, targets: Vec::new() })
+        Ok(Self { settings, pipeline, sampler, raw_sampler, placeholder_2d, placeholder_cube, targets: Vec::new() })
     }
 
     /// The settings the pass was built with.
@@ -182,13 +188,15 @@ impl ShadowMapPass {
         Ok(())
     }
 
-    /// The lighting pass's set 1 for light `light`: its map, or the placeholders (depth 1,
-    /// never sampled: the light's shadow kind is `SHADOW_NONE`) when it has none this frame.
+    /// Set 1 for light `light`: its map, or the placeholders (depth 1, never sampled: the
+    /// light's shadow kind is `SHADOW_NONE`) when it has none this frame, and `silhouette`
+    /// (the light's silhouette map or a placeholder).
     pub fn descriptor_set(
         &self,
         ctx: &Context,
         layout: &DescriptorSetLayout,
         light: Option<usize>,
+        silhouette: &Image,
     ) -> RenderResult<DescriptorSet> {
         let target = light.and_then(|l| self.targets.get(l)).and_then(Option::as_ref);
         let (single, cube) = match target {
@@ -196,16 +204,19 @@ impl ShadowMapPass {
             Some(t) => (&t.image, &self.placeholder_cube),
             None => (&self.placeholder_2d, &self.placeholder_cube),
         };
-        let sampled = |image: &Image| Resource::SampledImage {
+        let sampled = |image: &Image, sampler: &Sampler| Resource::SampledImage {
             view: image.view,
-            sampler: self.sampler.raw,
+            sampler: sampler.raw,
             layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
         };
         let name = match light {
             Some(l) => format!("shadow set light {l}"),
             None => "shadow set (none)".to_owned(),
         };
-        Ok(DescriptorSet::new(ctx, &name, layout, &[sampled(single), sampled(cube)])?)
+        let (compare, raw) = (&self.sampler, &self.raw_sampler);
+        let resources =
+            [sampled(single, compare), sampled(cube, compare), sampled(single, raw), sampled(silhouette, raw)];
+        Ok(DescriptorSet::new(ctx, &name, layout, &resources)?)
     }
 
     fn target(&self, light: usize) -> RenderResult<&ShadowTarget> {

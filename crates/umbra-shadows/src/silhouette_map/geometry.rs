@@ -2,8 +2,8 @@
 //! tests check against (Sen, Cammarano, Hanrahan 2003, §3.1–3.2).
 //!
 //! Coordinates are **texel-local** on the silhouette map's dual grid: a silhouette texel is the
-//! square whose corners are four depth samples, `(0, 0)` at its bottom-left sample and `(1, 1)`
-//! at its top-right one. A texel with no silhouette keeps the default point `(0.5, 0.5)`, which
+//! square whose corners are four depth samples, `(0, 0)` at the sample with the smallest map
+//! coordinates and `(1, 1)` at the largest; x runs along the map's columns, y along its rows. A texel with no silhouette keeps the default point `(0.5, 0.5)`, which
 //! makes it behave like a plain shadow map there.
 
 use glam::Vec2;
@@ -56,61 +56,69 @@ pub fn pick_point(a: Vec2, b: Vec2) -> Option<Vec2> {
     }
 }
 
-/// The depth sample (corner) whose comparison shades a sample.
+/// The depth sample (texel corner) whose comparison shades a sample, named by its texel-local
+/// coordinates (`C10` is `(1, 0)`). Mirrors the shader's `CORNER_*` constants.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Corner {
     /// `(0, 0)`.
-    BottomLeft,
+    C00,
     /// `(1, 0)`.
-    BottomRight,
+    C10,
     /// `(1, 1)`.
-    TopRight,
+    C11,
     /// `(0, 1)`.
-    TopLeft,
+    C01,
 }
 
 /// The silhouette points of a texel and its four neighbours, each in **this** texel's frame
-/// (the left neighbour's point has x in `[−1, 0]`, the upper one y in `[1, 2]`, …).
+/// (the left neighbour's point has x in `[−1, 0]`, the upper one y in `[1, 2]`, …). "Down" and
+/// "up" are −y and +y; in the map, y runs along the rows.
 #[derive(Clone, Copy, Debug)]
 pub struct Neighbourhood {
     /// This texel's point.
     pub centre: Vec2,
-    /// The left neighbour's point.
+    /// The left (−x) neighbour's point.
     pub left: Vec2,
-    /// The lower neighbour's point.
+    /// The lower (−y) neighbour's point.
     pub down: Vec2,
-    /// The right neighbour's point.
+    /// The right (+x) neighbour's point.
     pub right: Vec2,
-    /// The upper neighbour's point.
+    /// The upper (+y) neighbour's point.
     pub up: Vec2,
 }
 
-/// Which skewed quadrant holds `sample` (§3.2, Fig. 5): the segments from the centre point to
-/// the four neighbours split the texel into four quadrants, one per corner; going round the
-/// centre counter-clockwise they are left→down (bottom-left), down→right (bottom-right),
-/// right→up (top-right) and up→left (top-left). Equivalent to the paper's eight wedge tests.
+/// Whether `s` lies in the wedge swept counter-clockwise from ray `r1` to ray `r2`.
+fn in_wedge(r1: Vec2, s: Vec2, r2: Vec2) -> bool {
+    r1.perp_dot(s) >= 0.0 && s.perp_dot(r2) >= 0.0
+}
+
+/// Which skewed quadrant holds `sample` (§3.2, Fig. 5). The segments from the centre point to
+/// the four neighbours' points and to the four corners cut the texel into eight wedges, two per
+/// corner (each at most a half-plane: a neighbour's segment leaves the texel through the side
+/// they share, between that side's corners); the first wedge holding the sample names the
+/// corner. Exactly the shader's `quadrant` (`silhouette_map/geometry.glsl`).
 pub fn quadrant(n: &Neighbourhood, sample: Vec2) -> Corner {
-    let angle = |p: Vec2| {
-        let d = p - n.centre;
-        d.y.atan2(d.x)
-    };
-    let s = angle(sample);
-    let rays = [
-        (angle(n.left), Corner::BottomLeft),
-        (angle(n.down), Corner::BottomRight),
-        (angle(n.right), Corner::TopRight),
-        (angle(n.up), Corner::TopLeft),
-    ];
-    // Counter-clockwise distance from `from` to `to`, in [0, 2π).
-    let ccw = |from: f32, to: f32| (to - from).rem_euclid(std::f32::consts::TAU);
-    for k in 0..4 {
-        let (start, corner) = rays[k];
-        let end = rays[(k + 1) % 4].0;
-        if ccw(start, s) <= ccw(start, end) {
-            return corner;
+    let c = n.centre;
+    let s = sample - c;
+    let (l, d, r, u) = (n.left - c, n.down - c, n.right - c, n.up - c);
+    let (c00, c10, c11, c01) = (-c, Vec2::X - c, Vec2::ONE - c, Vec2::Y - c);
+    if in_wedge(l, s, c00) || in_wedge(c00, s, d) {
+        Corner::C00
+    } else if in_wedge(d, s, c10) || in_wedge(c10, s, r) {
+        Corner::C10
+    } else if in_wedge(r, s, c11) || in_wedge(c11, s, u) {
+        Corner::C11
+    } else if in_wedge(u, s, c01) || in_wedge(c01, s, l) {
+        Corner::C01
+    } else {
+        // Only reachable through degenerate (zero-length) rays: the nearest corner.
+        match (sample.x < 0.5, sample.y < 0.5) {
+            (true, true) => Corner::C00,
+            (true, false) => Corner::C01,
+            (false, true) => Corner::C10,
+            (false, false) => Corner::C11,
         }
     }
-    Corner::BottomLeft
 }
 
 #[cfg(test)]
@@ -201,7 +209,7 @@ mod tests {
             (Vec2::new(0.9, 0.8), false),
         ] {
             let c = quadrant(&n, s);
-            let on_left = matches!(c, Corner::BottomLeft | Corner::TopLeft);
+            let on_left = matches!(c, Corner::C00 | Corner::C01);
             assert_eq!(on_left, left_side, "{s} went to {c:?}");
         }
         // With every point at its default, the quadrants are the four texel quarters: a plain
@@ -213,9 +221,9 @@ mod tests {
             right: Vec2::new(1.5, 0.5),
             up: Vec2::new(0.5, 1.5),
         };
-        assert_eq!(quadrant(&plain, Vec2::new(0.1, 0.2)), Corner::BottomLeft);
-        assert_eq!(quadrant(&plain, Vec2::new(0.8, 0.3)), Corner::BottomRight);
-        assert_eq!(quadrant(&plain, Vec2::new(0.7, 0.9)), Corner::TopRight);
-        assert_eq!(quadrant(&plain, Vec2::new(0.2, 0.6)), Corner::TopLeft);
+        assert_eq!(quadrant(&plain, Vec2::new(0.1, 0.2)), Corner::C00);
+        assert_eq!(quadrant(&plain, Vec2::new(0.8, 0.3)), Corner::C10);
+        assert_eq!(quadrant(&plain, Vec2::new(0.7, 0.9)), Corner::C11);
+        assert_eq!(quadrant(&plain, Vec2::new(0.2, 0.6)), Corner::C01);
     }
 }

@@ -1,0 +1,116 @@
+//! Diagnostic views, rendered on request (`RendererDesc::diagnostics`) by a pass per light
+//! that is not part of the technique's cost: the per-pixel classification (Chan–Durand
+//! Fig. 6b colours, `shaders-glsl/debug/classes.glsl`), a mask of the silhouette points as the
+//! camera sees them (Sen et al. Fig. 9, middle), and the silhouette map itself.
+
+use umbra_vk::{vk, Context, Image, ImageDesc, VkResult};
+
+/// How the lighting decided one pixel, decoded from the classification image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum PixelClass {
+    /// The depth comparisons agreed: shadowed (red). Also surfaces facing away from the light.
+    MapShadowed,
+    /// The depth comparisons agreed: lit (blue).
+    MapLit,
+    /// A silhouette pixel the accurate technique decided: shadowed (black).
+    SilhouetteShadowed,
+    /// A silhouette pixel the accurate technique decided: lit (green).
+    SilhouetteLit,
+    /// A surface that does not receive shadows (light grey).
+    NotReceiver,
+    /// No geometry (the clear colour, mid grey).
+    Background,
+}
+
+impl PixelClass {
+    /// The class of an RGBA8 classification pixel.
+    pub fn decode(rgba: [u8; 4]) -> Self {
+        match [rgba[0], rgba[1], rgba[2]] {
+            [255, 0, 0] => Self::MapShadowed,
+            [0, 0, 255] => Self::MapLit,
+            [0, 0, 0] => Self::SilhouetteShadowed,
+            [0, 255, 0] => Self::SilhouetteLit,
+            [191, 191, 191] => Self::NotReceiver,
+            _ => Self::Background,
+        }
+    }
+
+    /// Whether the accurate technique decided the pixel.
+    pub fn is_silhouette(self) -> bool {
+        matches!(self, Self::SilhouetteShadowed | Self::SilhouetteLit)
+    }
+}
+
+/// The clear colour of the classification image (decodes as [`PixelClass::Background`]).
+pub(crate) const BACKGROUND: [f32; 4] = [0.5, 0.5, 0.5, 1.0];
+
+/// A light's silhouette map read back: texel-local points, row 0 first.
+#[derive(Clone, Debug)]
+pub struct SilhouetteMapImage {
+    /// Texels per side.
+    pub resolution: u32,
+    /// `resolution²` points, `(0.5, 0.5)` where no silhouette passes.
+    pub points: Vec<[f32; 2]>,
+}
+
+impl SilhouetteMapImage {
+    /// The point of texel `(x, y)`.
+    pub fn point(&self, x: u32, y: u32) -> [f32; 2] {
+        self.points[(y * self.resolution + x) as usize]
+    }
+
+    /// Texels holding a point other than the default.
+    pub fn silhouette_texels(&self) -> usize {
+        self.points.iter().filter(|p| **p != [0.5, 0.5]).count()
+    }
+}
+
+/// One light's diagnostic views, at the frame's size (RGBA8, row 0 at the top).
+#[derive(Clone, Debug)]
+pub struct LightDiagnostics {
+    /// Index of the light.
+    pub light: usize,
+    /// Per-pixel classification (decode with [`PixelClass::decode`]).
+    pub classification: Vec<u8>,
+    /// Red (alpha 255) where the pixel shows a stored silhouette point; alpha 0 elsewhere.
+    pub points: Vec<u8>,
+    /// The silhouette map, for silhouette-map lights.
+    pub silhouette_map: Option<SilhouetteMapImage>,
+}
+
+impl LightDiagnostics {
+    /// Pixels the silhouette decided (green or black).
+    pub fn silhouette_pixels(&self) -> u64 {
+        self.classification
+            .chunks_exact(4)
+            .filter(|p| PixelClass::decode([p[0], p[1], p[2], p[3]]).is_silhouette())
+            .count() as u64
+    }
+
+    /// The silhouette points drawn over `frame_rgba` (the frame's pixels): Sen et al. Fig. 9,
+    /// middle.
+    pub fn points_over(&self, frame_rgba: &[u8]) -> Vec<u8> {
+        frame_rgba
+            .chunks_exact(4)
+            .zip(self.points.chunks_exact(4))
+            .flat_map(|(f, m)| if m[3] > 127 { [m[0], m[1], m[2], 255] } else { [f[0], f[1], f[2], f[3]] })
+            .collect()
+    }
+}
+
+/// The two diagnostic render targets, reused by every light of a frame.
+pub(crate) struct DiagnosticTargets {
+    pub classification: Image,
+    pub points: Image,
+}
+
+impl DiagnosticTargets {
+    pub fn new(ctx: &Context, format: vk::Format, width: u32, height: u32) -> VkResult<Self> {
+        let desc = ImageDesc::new_2d(format, width, height)
+            .usage(vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC);
+        Ok(Self {
+            classification: Image::new(ctx, "diagnostics: classification", desc)?,
+            points: Image::new(ctx, "diagnostics: silhouette points", desc)?,
+        })
+    }
+}

@@ -1,0 +1,163 @@
+//! Pass 2 of the silhouette map (§3.1): per light, an RG32F map on the depth map's dual grid,
+//! cleared to the default point and written by the silhouette edges' quads; and the
+//! diagnostic views drawn from it.
+
+use super::edges::{EdgeInstance, LightEdges};
+use super::geometry::DEFAULT_POINT;
+use crate::forward;
+use crate::gpu_scene::{DrawPush, GpuScene, VERTEX_ATTRIBUTES, VERTEX_STRIDE};
+use crate::shadow_map::ShadowMapSettings;
+use crate::timing::PassLog;
+use crate::{RenderError, RenderResult};
+use umbra_scene::Scene;
+use umbra_vk::{
+    vk, Buffer, ColorAttachment, ColorTarget, Context, DepthState, DescriptorSet, GraphicsPipeline,
+    GraphicsPipelineDesc, Image, ImageDesc, ImageState, PipelineLayout, Recorder, RenderTargets, VertexAttribute,
+};
+
+/// Texel-local silhouette points, two floats per texel.
+pub(crate) const FORMAT: vk::Format = vk::Format::R32G32_SFLOAT;
+
+/// Per-instance edge layout: endpoint a at location 0, b at location 1.
+const EDGE_ATTRIBUTES: [VertexAttribute; 2] = [
+    VertexAttribute { location: 0, format: vk::Format::R32G32B32_SFLOAT, offset: 0 },
+    VertexAttribute { location: 1, format: vk::Format::R32G32B32_SFLOAT, offset: 12 },
+];
+
+/// Pipelines, placeholder and per-light targets of the silhouette map.
+pub(crate) struct SilhouetteMapPass {
+    points: GraphicsPipeline,
+    diagnostics: GraphicsPipeline,
+    placeholder: Image,
+    targets: Vec<Option<Image>>,
+}
+
+impl SilhouetteMapPass {
+    /// Builds the point pipeline and the diagnostic-view pipeline (drawn over a
+    /// `depth_format` frame into two `color_format` targets).
+    pub fn new(
+        ctx: &Context,
+        layout: &PipelineLayout,
+        color_format: vk::Format,
+        depth_format: vk::Format,
+        shadow: &ShadowMapSettings,
+    ) -> RenderResult<Self> {
+        let mut desc = GraphicsPipelineDesc::new("silhouette map points", umbra_shaders::silhouette_map::EDGES_VERT);
+        desc.fragment = Some(umbra_shaders::silhouette_map::POINTS_FRAG);
+        desc.vertex_stride = std::mem::size_of::<EdgeInstance>() as u32;
+        desc.vertex_attributes = &EDGE_ATTRIBUTES;
+        desc.vertex_input_rate = vk::VertexInputRate::INSTANCE;
+        // The quad's winding follows the edge's direction.
+        desc.cull = vk::CullModeFlags::NONE;
+        desc.depth = DepthState::NONE;
+        let target = [ColorTarget::opaque(FORMAT)];
+        desc.color_targets = &target;
+        let points = GraphicsPipeline::new(ctx, layout, &desc)?;
+
+        let mut desc = GraphicsPipelineDesc::new("silhouette map diagnostics", umbra_shaders::forward::MESH_VERT);
+        desc.fragment = Some(umbra_shaders::silhouette_map::DIAGNOSTICS_FRAG);
+        desc.vertex_stride = VERTEX_STRIDE;
+        desc.vertex_attributes = &VERTEX_ATTRIBUTES;
+        desc.cull = vk::CullModeFlags::NONE;
+        desc.depth = DepthState { write: false, compare: vk::CompareOp::EQUAL, ..DepthState::TEST_AND_WRITE };
+        desc.depth_format = depth_format;
+        let spec = [(0, shadow.filter.spec_value()), (1, u32::from(shadow.outside_lit))];
+        desc.specialization = &spec;
+        let targets = [ColorTarget::opaque(color_format), ColorTarget::opaque(color_format)];
+        desc.color_targets = &targets;
+        let diagnostics = GraphicsPipeline::new(ctx, layout, &desc)?;
+
+        let placeholder = Image::new(
+            ctx,
+            "no silhouette map",
+            ImageDesc::new_2d(FORMAT, 1, 1).usage(vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::COLOR_ATTACHMENT),
+        )?;
+        let mut rec = ctx.begin_commands("clear silhouette placeholder")?;
+        rec.transition(&[(&placeholder, ImageState::Undefined, ImageState::ColorAttachment)]);
+        let clear = [ColorAttachment { image: &placeholder, clear: Some(default_clear()) }];
+        rec.begin_rendering(&RenderTargets { color: &clear, depth: None });
+        rec.end_rendering();
+        rec.transition(&[(&placeholder, ImageState::ColorAttachment, ImageState::FragmentRead)]);
+        ctx.submit_and_wait(rec)?;
+        Ok(Self { points, diagnostics, placeholder, targets: Vec::new() })
+    }
+
+    /// Makes sure light `light` has a `resolution`² silhouette map.
+    pub fn prepare(&mut self, ctx: &Context, light: usize, resolution: u32) -> RenderResult<()> {
+        if self.targets.len() <= light {
+            self.targets.resize_with(light + 1, || None);
+        }
+        if self.targets[light].as_ref().is_some_and(|t| t.desc.width == resolution) {
+            return Ok(());
+        }
+        let usage =
+            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC;
+        let desc = ImageDesc::new_2d(FORMAT, resolution, resolution).usage(usage);
+        self.targets[light] = Some(Image::new(ctx, &format!("silhouette map light {light}"), desc)?);
+        Ok(())
+    }
+
+    /// Light `light`'s silhouette map (after [`Self::prepare`]), or the 1×1 placeholder.
+    pub fn image(&self, light: Option<usize>) -> &Image {
+        light.and_then(|l| self.targets.get(l)).and_then(Option::as_ref).unwrap_or(&self.placeholder)
+    }
+
+    /// Records pass 2 for light `light`: clear to the default point, draw its `edges` (a range
+    /// of `instances`) as quads reading the depth map through `depth_set`, then make the map
+    /// readable by fragment shaders.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_points<'a>(
+        &'a self,
+        rec: &mut Recorder<'a>,
+        layout: &'a PipelineLayout,
+        gpu: &'a GpuScene,
+        depth_set: &'a DescriptorSet,
+        light: usize,
+        instances: Option<&'a Buffer>,
+        edges: LightEdges,
+        log: &mut PassLog,
+    ) -> RenderResult<()> {
+        let target = self.targets.get(light).and_then(Option::as_ref).ok_or(RenderError::InvalidShadowMap {
+            light,
+            resolution: 0,
+            why: "silhouette map recorded before `prepare`".into(),
+        })?;
+        rec.transition(&[(target, ImageState::Undefined, ImageState::ColorAttachment)]);
+        let color = [ColorAttachment { image: target, clear: Some(default_clear()) }];
+        rec.begin_rendering(&RenderTargets { color: &color, depth: None });
+        if let (Some(buffer), true) = (instances, edges.count > 0) {
+            rec.bind_pipeline(&self.points);
+            rec.bind_descriptor_set(layout, 0, &gpu.set);
+            rec.bind_descriptor_set(layout, 1, depth_set);
+            rec.bind_vertex_buffer(buffer);
+            rec.push_constants(layout, &DrawPush { object: 0, view: light as u32 });
+            rec.draw_instanced(6, edges.count, edges.first);
+            log.count_draw(2 * u64::from(edges.count));
+        }
+        rec.end_rendering();
+        rec.transition(&[(target, ImageState::ColorAttachment, ImageState::FragmentRead)]);
+        Ok(())
+    }
+
+    /// Draws the diagnostic views of light `light` (inside a rendering pass with the two
+    /// diagnostic targets and the frame's depth), its maps bound through `shadow_set`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_diagnostics<'a>(
+        &'a self,
+        rec: &mut Recorder<'a>,
+        layout: &'a PipelineLayout,
+        gpu: &'a GpuScene,
+        shadow_set: &'a DescriptorSet,
+        scene: &Scene,
+        light: u32,
+        log: &mut PassLog,
+    ) {
+        rec.bind_pipeline(&self.diagnostics);
+        rec.bind_descriptor_set(layout, 1, shadow_set);
+        forward::draw_objects(rec, layout, gpu, scene, light, log);
+    }
+}
+
+fn default_clear() -> [f32; 4] {
+    [DEFAULT_POINT.x, DEFAULT_POINT.y, 0.0, 0.0]
+}
