@@ -37,7 +37,7 @@ struct Args {
 fn parse_bias(s: &str) -> Result<DepthBias, String> {
     let (c, k) = s.split_once(',').ok_or_else(|| format!("{s:?} is not CONSTANT,SLOPE"))?;
     let num = |v: &str| v.trim().parse::<f32>().map_err(|e| format!("{v:?}: {e}"));
-    Ok(DepthBias { constant: num(c)?, slope: num(k)? })
+    Ok(DepthBias { constant: num(c)?, slope: num(k)?, clamp_texels: None })
 }
 
 fn main() -> anyhow::Result<()> {

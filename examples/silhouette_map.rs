@@ -20,7 +20,7 @@
 mod common;
 
 use clap::Parser;
-use umbra::scene::{LightKind, Scene, Spot, Technique};
+use umbra::scene::Technique;
 use umbra::shadows::{LightDiagnostics, Renderer, RendererDesc, ShadowMapSettings};
 
 #[derive(Parser, Debug)]
@@ -38,25 +38,6 @@ struct Args {
 
 /// Widest cone a 2D map takes (the renderer uses a cube map beyond it).
 const MAX_CONE_DEG: f32 = 80.0;
-
-/// Point lights become spots aimed at the scene's centre, their cone around its bounds.
-fn spots_for_points(scene: &mut Scene) {
-    let bounds = scene.bounds();
-    for (i, light) in scene.lights.iter_mut().enumerate() {
-        if light.kind() != LightKind::Point {
-            continue;
-        }
-        let p = light.position.truncate();
-        let to_centre = bounds.center() - p;
-        let distance = to_centre.length().max(1e-3);
-        let half = (bounds.radius() / distance).clamp(0.0, 1.0).asin().to_degrees() + 2.0;
-        let outer = half.min(MAX_CONE_DEG);
-        light.spot = Some(Spot { direction: to_centre, inner_deg: outer - 1.0, outer_deg: outer });
-        println!(
-            "light {i}: point light made a {outer:.1}° spot aimed at the scene centre (silhouette maps need a 2D map)"
-        );
-    }
-}
 
 fn write_debug_views(args: &Args, frame: &umbra::shadows::Frame, d: &LightDiagnostics) -> anyhow::Result<()> {
     let (w, h) = (frame.width, frame.height);
@@ -88,7 +69,9 @@ fn main() -> anyhow::Result<()> {
     let args = Args::parse();
     let ctx = umbra::vk::Context::new()?;
     let mut scene = umbra::scene::load(&args.common.scene)?;
-    spots_for_points(&mut scene);
+    for i in scene.point_lights_to_spots(MAX_CONE_DEG) {
+        println!("light {i}: point light made a spot aimed at the scene centre (silhouette maps need a 2D map)");
+    }
     for light in &mut scene.lights {
         light.technique = Technique::SilhouetteMap;
     }

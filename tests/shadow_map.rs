@@ -355,7 +355,7 @@ fn default_bias_leaves_no_acne_and_zero_bias_shows_it() {
             }
         }
         let zero = ShadowMapSettings {
-            bias: DepthBias { constant: 0.0, slope: 0.0 },
+            bias: DepthBias { constant: 0.0, slope: 0.0, clamp_texels: None },
             ..settings(1024, ShadowFilter::Nearest)
         };
         let (dark, floor) = acne(ctx, 75.0, zero);

@@ -17,7 +17,7 @@ layout(location = 2) flat in vec3 albedo;
 layout(location = 0) out vec4 out_class;
 layout(location = 1) out vec4 out_points;
 
-const float POINT_RADIUS = 0.08;
+const float POINT_RADIUS = 0.15;
 
 void main() {
     Light l = lights[push.view];

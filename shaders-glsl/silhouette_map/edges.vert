@@ -10,6 +10,12 @@
 // depth map along u and v; the fragment shader gets both endpoints in them, with their depth.
 #include "common/scene.glsl"
 
+// The device's subPixelPrecisionBits: the depth pass rasterized the casters with their
+// vertices snapped to 1/2^bits of a texel, so a depth sample within that distance of an edge
+// may fall on either side of the exact line. Endpoints snapped the same way keep the stored
+// points on the edge the depth map actually holds, so the corner comparisons agree with them.
+layout(constant_id = 2) const uint SUBPIXEL_BITS = 8u;
+
 layout(location = 0) in vec3 edge_a;
 layout(location = 1) in vec3 edge_b;
 
@@ -19,6 +25,7 @@ layout(location = 1) flat out vec3 out_b;
 const float GROW = 1.0;  // texels: > sqrt(2)/2, with a margin for the rasterizer's tie rules
 const float GUARD = 2.0; // texels beyond the map the segment is clipped to (keeps coordinates small)
 // Quad corners over two triangles: 0 = (a, -), 1 = (b, -), 2 = (b, +), 3 = (a, +).
+const uint VERTICES_PER_EDGE = 6u;
 const uint QUAD[6] = uint[6](0u, 1u, 2u, 0u, 2u, 3u);
 
 vec3 to_map(vec4 clip, float res) {
@@ -44,6 +51,9 @@ void main() {
     }
     vec3 a = to_map(ca, res);
     vec3 b = to_map(cb, res);
+    float grid = float(1u << SUBPIXEL_BITS);
+    a.xy = round(a.xy * grid) / grid;
+    b.xy = round(b.xy * grid) / grid;
     // Liang–Barsky clip of a -> b to the map plus a guard band; depth is affine in map space
     // for orthographic and perspective maps alike, so it follows the same parameter.
     vec3 d = b - a;
@@ -74,7 +84,7 @@ void main() {
     float len = length(e);
     vec2 dir = len > 1e-6 ? e / len : vec2(1.0, 0.0);
     vec2 normal = vec2(-dir.y, dir.x);
-    uint corner = QUAD[gl_VertexIndex % 6];
+    uint corner = QUAD[uint(gl_VertexIndex) % VERTICES_PER_EDGE];
     bool at_b = corner == 1u || corner == 2u;
     float side = corner >= 2u ? 1.0 : -1.0;
     vec2 p = (at_b ? b2.xy + dir * GROW : a2.xy - dir * GROW) + normal * (side * GROW);

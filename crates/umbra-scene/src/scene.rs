@@ -104,6 +104,26 @@ impl Scene {
         self.camera.far = Some(distance + r * 2.0);
     }
 
+    /// Turns every point light into a spot aimed at the scene's centre, its cone just around
+    /// the scene's bounds (at most `max_cone_deg` half-angle; 1° of soft edge), for techniques
+    /// that need one 2D map per light. Returns the indices of the lights it changed.
+    pub fn point_lights_to_spots(&mut self, max_cone_deg: f32) -> Vec<usize> {
+        let bounds = self.bounds();
+        let mut changed = Vec::new();
+        for (i, light) in self.lights.iter_mut().enumerate() {
+            if light.kind() != crate::LightKind::Point || bounds.is_empty() {
+                continue;
+            }
+            let to_centre = bounds.center() - light.position.truncate();
+            let distance = to_centre.length().max(1e-3);
+            let half = (bounds.radius() / distance).clamp(0.0, 1.0).asin().to_degrees() + 2.0;
+            let outer = half.min(max_cone_deg).max(2.0);
+            light.spot = Some(crate::Spot { direction: to_centre, inner_deg: outer - 1.0, outer_deg: outer });
+            changed.push(i);
+        }
+        changed
+    }
+
     /// Adds a key directional light from above, on the camera's side, when the scene has no
     /// light at all, so a bare mesh file still shows its shape.
     pub fn ensure_light(&mut self) {

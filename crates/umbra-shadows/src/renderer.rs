@@ -23,7 +23,7 @@ use crate::plan::{CasterMode, ShadowVolumeReport, SilhouetteMapReport, SILHOUETT
 use crate::report::{FrameReport, SceneSummary};
 use crate::shadow_map::frustum::{self, LightViews, MapKind};
 use crate::shadow_map::pass::{self, ShadowMapPass};
-use crate::shadow_map::ShadowMapSettings;
+use crate::shadow_map::{DepthBias, ShadowMapSettings};
 use crate::shadow_volume::build::{self as volumes, Counting, LightVolumes};
 use crate::shadow_volume::pass::{ShadowVolumePass, VolumeBindings};
 use crate::shadow_volume::{FarPlane, ShadowVolumeSettings};
@@ -275,6 +275,8 @@ impl Renderer {
         let mut shadow_views = Vec::new();
         let mut fitted: Vec<Option<LightViews>> = vec![None; scene.lights.len()];
         let mut silhouettes: Vec<Option<LightEdges>> = vec![None; scene.lights.len()];
+        // Depth-bias clamp per light, in map depth units (0: none, or no `depthBiasClamp`).
+        let mut bias_clamps = vec![0.0f32; scene.lights.len()];
         let mut edge_instances: Vec<EdgeInstance> = Vec::new();
         let map_lights =
             lights.iter_mut().filter(|l| uses(l, Technique::ShadowMap) || uses(l, Technique::SilhouetteMap));
@@ -325,6 +327,14 @@ impl Renderer {
                     silhouette_fraction: None,
                 });
                 silhouettes[plan.light] = Some(e);
+            }
+            let clamp_texels = match (settings.bias.clamp_texels, silhouette) {
+                (Some(t), _) => Some(t),
+                (None, true) => Some(DepthBias::SILHOUETTE_CLAMP_TEXELS),
+                (None, false) => None,
+            };
+            if let (Some(texels), true) = (clamp_texels, self.ctx.capabilities().depth_bias_clamp) {
+                bias_clamps[plan.light] = frustum::bias_clamp(views.views[0], resolution, texels);
             }
             shadow_views.extend_from_slice(&views.views);
             fitted[plan.light] = Some(views);
@@ -456,7 +466,18 @@ impl Renderer {
             if let Some(views) = &fitted[plan.light] {
                 timer.begin(&mut rec, &mut log, format!("shadow_map {}", plan.light), Some(plan.light));
                 let first_view = shadows[plan.light].first_view;
-                self.shadow_map.record(&mut rec, &self.layout, &gpu, scene, plan.light, views, first_view, &mut log)?;
+                let clamp = bias_clamps[plan.light];
+                self.shadow_map.record(
+                    &mut rec,
+                    &self.layout,
+                    &gpu,
+                    scene,
+                    plan.light,
+                    views,
+                    first_view,
+                    clamp,
+                    &mut log,
+                )?;
                 timer.end(&mut rec, &log);
             }
             if let (Some(e), Some(depth_set)) = (silhouettes[plan.light], &depth_sets[plan.light]) {

@@ -28,6 +28,8 @@ pub struct Capabilities {
     pub depth_bounds: bool,
     /// `depthClamp`: clamp instead of clipping at near/far (Everitt–Kilgard's caps).
     pub depth_clamp: bool,
+    /// `depthBiasClamp`: an upper limit on the depth bias of shadow passes.
+    pub depth_bias_clamp: bool,
     /// `pipelineStatisticsQuery`: fragment-invocation counts for fill metrics.
     pub pipeline_statistics: bool,
     /// Timestamps on the graphics queue (`timestampValidBits > 0` and `timestampComputeAndGraphics`
@@ -58,6 +60,9 @@ pub struct Capabilities {
     pub max_image_dimension_cube: u32,
     /// `maxPushConstantsSize` in bytes.
     pub max_push_constants_size: u32,
+    /// `subPixelPrecisionBits`: vertices are snapped to 1/2^bits of a pixel before
+    /// rasterization (silhouette maps snap their edges the same way).
+    pub sub_pixel_precision_bits: u32,
 }
 
 fn ser_format<S: serde::Serializer>(f: &vk::Format, s: S) -> Result<S::Ok, S::Error> {
@@ -97,6 +102,7 @@ impl Capabilities {
             ),
             depth_bounds: p.enabled.depth_bounds == vk::TRUE,
             depth_clamp: p.enabled.depth_clamp == vk::TRUE,
+            depth_bias_clamp: p.enabled.depth_bias_clamp == vk::TRUE,
             pipeline_statistics: p.enabled.pipeline_statistics_query == vk::TRUE,
             timestamps: timestamp_valid_bits > 0 && limits.timestamp_period > 0.0,
             timestamp_period_ns: limits.timestamp_period,
@@ -111,6 +117,7 @@ impl Capabilities {
             max_image_dimension_2d: limits.max_image_dimension2_d,
             max_image_dimension_cube: limits.max_image_dimension_cube,
             max_push_constants_size: limits.max_push_constants_size,
+            sub_pixel_precision_bits: limits.sub_pixel_precision_bits,
         }
     }
 }

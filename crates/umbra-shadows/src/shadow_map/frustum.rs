@@ -165,6 +165,22 @@ pub(crate) fn texel_size(view_proj: Mat4, resolution: u32) -> [f32; 2] {
     [m.x_axis, m.y_axis].map(|row| 2.0 / (row.xyz().length() * resolution as f32))
 }
 
+/// The depth-bias clamp (in the map's depth units) equal to `texels` texel widths along the
+/// light's rays, measured at the centre of the near plane of `view_proj` (exact everywhere for
+/// orthographic maps; for perspective maps the largest value, nearer texels being smaller).
+pub(crate) fn bias_clamp(view_proj: Mat4, resolution: u32, texels: f32) -> f32 {
+    let inv = view_proj.inverse();
+    let p0 = inv.project_point3(Vec3::ZERO);
+    let texel = inv.project_point3(Vec3::new(2.0 / resolution as f32, 0.0, 0.0)).distance(p0);
+    let along = (inv.project_point3(Vec3::new(0.0, 0.0, 0.5)) - p0).normalize_or_zero();
+    let depth = view_proj.project_point3(p0 + along * texel * texels).z - view_proj.project_point3(p0).z;
+    if depth.is_finite() {
+        depth.max(0.0)
+    } else {
+        0.0
+    }
+}
+
 fn corners(b: &Aabb) -> [Vec3; 8] {
     std::array::from_fn(|i| {
         Vec3::new(

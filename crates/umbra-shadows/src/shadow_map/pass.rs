@@ -143,6 +143,7 @@ impl ShadowMapPass {
 
     /// Records the depth pass of light `light` (prepared with [`ShadowMapPass::prepare`]):
     /// one rendering per map layer, casters front to back, then the map made readable.
+    /// `bias_clamp` limits the depth bias (map depth units, 0 = no limit).
     #[allow(clippy::too_many_arguments)]
     pub fn record<'a>(
         &'a self,
@@ -153,6 +154,7 @@ impl ShadowMapPass {
         light: usize,
         views: &LightViews,
         first_view: u32,
+        bias_clamp: f32,
         log: &mut PassLog,
     ) -> RenderResult<()> {
         let target = self.target(light)?;
@@ -169,7 +171,7 @@ impl ShadowMapPass {
                 }),
             });
             rec.bind_pipeline(&self.pipeline);
-            rec.set_depth_bias(self.settings.bias.constant, 0.0, self.settings.effective_slope());
+            rec.set_depth_bias(self.settings.bias.constant, bias_clamp, self.settings.effective_slope());
             rec.bind_descriptor_set(layout, 0, &gpu.set);
             rec.bind_vertex_buffer(&gpu.vertices);
             rec.bind_index_buffer(&gpu.indices);

@@ -67,6 +67,19 @@ pub struct DepthBias {
     /// Slope factor, in shadow-map texels of depth slope. The filter's radius is added to it,
     /// since a wider kernel compares up to that many texels away from the lookup point.
     pub slope: f32,
+    /// Upper limit of the bias, as a distance along the light's rays in texel widths (measured
+    /// at the map's near plane; `vkCmdSetDepthBias`' clamp, needs `depthBiasClamp`), or `None`
+    /// for no limit. Triangles seen edge-on from the light have a huge depth slope: unclamped,
+    /// their bias pushes a caster's outline behind the receivers and the shadow shrinks there.
+    /// `None` uses [`DepthBias::SILHOUETTE_CLAMP_TEXELS`] for silhouette maps, whose
+    /// reconstruction needs the corner comparisons to agree with the outline, and no limit for
+    /// shadow maps, where steep receivers need the full slope bias.
+    pub clamp_texels: Option<f32>,
+}
+
+impl DepthBias {
+    /// The default limit of silhouette maps' bias, in texel widths.
+    pub const SILHOUETTE_CLAMP_TEXELS: f32 = 4.0;
 }
 
 /// How a light's shadow map is made and read.
@@ -96,7 +109,7 @@ impl ShadowMapSettings {
     pub const DEFAULT: Self = Self {
         resolution: 2048,
         filter: ShadowFilter::Pcf2x2,
-        bias: DepthBias { constant: 2.0, slope: 2.5 },
+        bias: DepthBias { constant: 2.0, slope: 2.5, clamp_texels: None },
         normal_offset: 0.0,
         outside_lit: true,
     };

@@ -226,4 +226,34 @@ mod tests {
         assert_eq!(quadrant(&plain, Vec2::new(0.7, 0.9)), Corner::C11);
         assert_eq!(quadrant(&plain, Vec2::new(0.2, 0.6)), Corner::C01);
     }
+
+    #[test]
+    fn a_skewed_contour_shades_each_side_from_a_corner_on_that_side() {
+        // The line y = 0.3 + 0.6 x crosses this texel from its left to its right neighbour;
+        // every point of it is stored where the line crosses each texel (the midpoint of the
+        // two diagonal hits here). The lower and upper neighbours hold no silhouette.
+        let line = |x: f32| 0.3 + 0.6 * x;
+        let centre = pick_point(Vec2::new(-1.0, line(-1.0)), Vec2::new(2.0, line(2.0))).unwrap();
+        let n = Neighbourhood {
+            centre,
+            left: Vec2::new(-0.5, line(-0.5)),
+            right: Vec2::new(1.5, line(1.5)),
+            down: Vec2::new(0.5, -0.5),
+            up: Vec2::new(0.5, 1.5),
+        };
+        for i in 0..=20 {
+            for j in 0..=20 {
+                let s = Vec2::new(i as f32 / 20.0, j as f32 / 20.0);
+                // Samples farther than 0.05 from the reconstructed polyline (which is this
+                // straight line up to the points' placement).
+                if (s.y - line(s.x)).abs() < 0.05 {
+                    continue;
+                }
+                let below = s.y < line(s.x);
+                let corner = quadrant(&n, s);
+                let corner_below = matches!(corner, Corner::C00 | Corner::C10);
+                assert_eq!(corner_below, below, "{s} went to {corner:?}");
+            }
+        }
+    }
 }

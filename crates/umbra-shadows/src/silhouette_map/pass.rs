@@ -18,6 +18,9 @@ use umbra_vk::{
 /// Texel-local silhouette points, two floats per texel.
 pub(crate) const FORMAT: vk::Format = vk::Format::R32G32_SFLOAT;
 
+/// Vertices of one edge's quad: two triangles (`edges.vert`).
+const VERTICES_PER_EDGE: u32 = 6;
+
 /// Per-instance edge layout: endpoint a at location 0, b at location 1.
 const EDGE_ATTRIBUTES: [VertexAttribute; 2] = [
     VertexAttribute { location: 0, format: vk::Format::R32G32B32_SFLOAT, offset: 0 },
@@ -47,6 +50,9 @@ impl SilhouetteMapPass {
         desc.vertex_stride = std::mem::size_of::<EdgeInstance>() as u32;
         desc.vertex_attributes = &EDGE_ATTRIBUTES;
         desc.vertex_input_rate = vk::VertexInputRate::INSTANCE;
+        let bits = ctx.capabilities().sub_pixel_precision_bits.min(16);
+        let snap = [(2, bits)];
+        desc.specialization = &snap;
         // The quad's winding follows the edge's direction.
         desc.cull = vk::CullModeFlags::NONE;
         desc.depth = DepthState::NONE;
@@ -131,8 +137,8 @@ impl SilhouetteMapPass {
             rec.bind_descriptor_set(layout, 1, depth_set);
             rec.bind_vertex_buffer(buffer);
             rec.push_constants(layout, &DrawPush { object: 0, view: light as u32 });
-            rec.draw_instanced(6, edges.count, edges.first);
-            log.count_draw(2 * u64::from(edges.count));
+            rec.draw_instanced(VERTICES_PER_EDGE, edges.count, edges.first);
+            log.count_draw(u64::from(VERTICES_PER_EDGE / 3 * edges.count));
         }
         rec.end_rendering();
         rec.transition(&[(target, ImageState::ColorAttachment, ImageState::FragmentRead)]);
