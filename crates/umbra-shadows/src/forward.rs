@@ -33,22 +33,17 @@ impl Forward {
         depth_format: vk::Format,
         shadow: &ShadowMapSettings,
     ) -> RenderResult<Self> {
-        let mut desc = GraphicsPipelineDesc::new("forward ambient + depth", umbra_shaders::forward::MESH_VERT);
-        desc.fragment = Some(umbra_shaders::forward::AMBIENT_FRAG);
-        desc.vertex_stride = gpu_scene::VERTEX_STRIDE;
-        desc.vertex_attributes = &gpu_scene::VERTEX_ATTRIBUTES;
-        desc.cull = vk::CullModeFlags::NONE;
+        let ambient_frag = umbra_shaders::forward::AMBIENT_FRAG;
+        let mut desc = surface_pass_desc("forward ambient + depth", ambient_frag, depth_format, &[]);
+        // The pass that lays the depth down: LESS and write.
         desc.depth = DepthState { compare: vk::CompareOp::LESS, ..DepthState::TEST_AND_WRITE };
-        desc.depth_format = depth_format;
         let opaque = [ColorTarget::opaque(color_format)];
         desc.color_targets = &opaque;
         let ambient = GraphicsPipeline::new(ctx, layout, &desc)?;
 
-        desc.name = "forward light (additive)";
-        desc.fragment = Some(umbra_shaders::forward::LIGHT_FRAG);
-        let spec = [(0, shadow.filter.spec_value()), (1, u32::from(shadow.outside_lit))];
-        desc.specialization = &spec;
-        desc.depth = DepthState { write: false, compare: vk::CompareOp::EQUAL, ..DepthState::TEST_AND_WRITE };
+        let spec = shadow_spec(shadow);
+        let mut desc =
+            surface_pass_desc("forward light (additive)", umbra_shaders::forward::LIGHT_FRAG, depth_format, &spec);
         let additive = [ColorTarget { blend: Some(Blend::ADDITIVE), ..ColorTarget::opaque(color_format) }];
         desc.color_targets = &additive;
         let light = GraphicsPipeline::new(ctx, layout, &desc)?;
@@ -95,6 +90,31 @@ impl Forward {
         rec.bind_descriptor_set(layout, 1, shadow_set);
         draw_objects(rec, layout, gpu, scene, light, log);
     }
+}
+
+/// The lighting shaders' specialization: shadow filter (0) and out-of-frustum policy (1).
+pub(crate) fn shadow_spec(shadow: &ShadowMapSettings) -> [(u32, u32); 2] {
+    [(0, shadow.filter.spec_value()), (1, u32::from(shadow.outside_lit))]
+}
+
+/// A pass over the scene's surfaces with `forward/mesh.vert` (bit-identical depth between
+/// passes) and `fragment`: no culling, depth EQUAL without writes (the passes after the depth
+/// pass); colour targets left to the caller.
+pub(crate) fn surface_pass_desc<'a>(
+    name: &'a str,
+    fragment: &'a [u32],
+    depth_format: vk::Format,
+    specialization: &'a [(u32, u32)],
+) -> GraphicsPipelineDesc<'a> {
+    let mut desc = GraphicsPipelineDesc::new(name, umbra_shaders::forward::MESH_VERT);
+    desc.fragment = Some(fragment);
+    desc.specialization = specialization;
+    desc.vertex_stride = gpu_scene::VERTEX_STRIDE;
+    desc.vertex_attributes = &gpu_scene::VERTEX_ATTRIBUTES;
+    desc.cull = vk::CullModeFlags::NONE;
+    desc.depth = DepthState { write: false, compare: vk::CompareOp::EQUAL, ..DepthState::TEST_AND_WRITE };
+    desc.depth_format = depth_format;
+    desc
 }
 
 /// Draws every object with the bound pipeline, light index `light` in the push constants.

@@ -5,7 +5,7 @@
 use super::edges::{EdgeInstance, LightEdges};
 use super::geometry::DEFAULT_POINT;
 use crate::forward;
-use crate::gpu_scene::{DrawPush, GpuScene, VERTEX_ATTRIBUTES, VERTEX_STRIDE};
+use crate::gpu_scene::{DrawPush, GpuScene};
 use crate::shadow_map::ShadowMapSettings;
 use crate::timing::PassLog;
 use crate::{RenderError, RenderResult};
@@ -60,15 +60,9 @@ impl SilhouetteMapPass {
         desc.color_targets = &target;
         let points = GraphicsPipeline::new(ctx, layout, &desc)?;
 
-        let mut desc = GraphicsPipelineDesc::new("silhouette map diagnostics", umbra_shaders::forward::MESH_VERT);
-        desc.fragment = Some(umbra_shaders::silhouette_map::DIAGNOSTICS_FRAG);
-        desc.vertex_stride = VERTEX_STRIDE;
-        desc.vertex_attributes = &VERTEX_ATTRIBUTES;
-        desc.cull = vk::CullModeFlags::NONE;
-        desc.depth = DepthState { write: false, compare: vk::CompareOp::EQUAL, ..DepthState::TEST_AND_WRITE };
-        desc.depth_format = depth_format;
-        let spec = [(0, shadow.filter.spec_value()), (1, u32::from(shadow.outside_lit))];
-        desc.specialization = &spec;
+        let spec = forward::shadow_spec(shadow);
+        let diagnostics_frag = umbra_shaders::silhouette_map::DIAGNOSTICS_FRAG;
+        let mut desc = forward::surface_pass_desc("silhouette map diagnostics", diagnostics_frag, depth_format, &spec);
         let targets = [ColorTarget::opaque(color_format), ColorTarget::opaque(color_format)];
         desc.color_targets = &targets;
         let diagnostics = GraphicsPipeline::new(ctx, layout, &desc)?;
