@@ -3,7 +3,7 @@
 //! Fig. 6b colours, `shaders-glsl/debug/classes.glsl`), a mask of the silhouette points as the
 //! camera sees them (Sen et al. Fig. 9, middle), and the silhouette map itself.
 
-use umbra_vk::{vk, Context, Image, ImageDesc, VkResult};
+use umbra_vk::Image;
 
 /// How the lighting decided one pixel, decoded from the classification image.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -102,15 +102,4 @@ impl LightDiagnostics {
 pub(crate) struct DiagnosticTargets {
     pub classification: Image,
     pub points: Image,
-}
-
-impl DiagnosticTargets {
-    pub fn new(ctx: &Context, format: vk::Format, width: u32, height: u32) -> VkResult<Self> {
-        let desc = ImageDesc::new_2d(format, width, height)
-            .usage(vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC);
-        Ok(Self {
-            classification: Image::new(ctx, "diagnostics: classification", desc)?,
-            points: Image::new(ctx, "diagnostics: silhouette points", desc)?,
-        })
-    }
 }

@@ -176,12 +176,7 @@ impl Renderer {
         if depth_format == vk::Format::UNDEFINED {
             return Err(ctx.unsupported("any depth/stencil attachment format").into());
         }
-        let color = Image::new(
-            ctx,
-            "colour target",
-            ImageDesc::new_2d(COLOR_FORMAT, desc.width, desc.height)
-                .usage(vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC),
-        )?;
+        let color = frame_target(ctx, "colour target", desc.width, desc.height)?;
         let depth = Image::new(
             ctx,
             "depth/stencil target",
@@ -202,17 +197,15 @@ impl Renderer {
         let shadow_volume = ShadowVolumePass::new(ctx, &layout, depth_format, &desc.shadow_volume)?;
         let silhouette_map = SilhouetteMapPass::new(ctx, &layout, COLOR_FORMAT, depth_format, &desc.shadow_map)?;
         let diagnostic_targets = if desc.diagnostics {
-            Some(DiagnosticTargets::new(ctx, COLOR_FORMAT, desc.width, desc.height)?)
+            Some(DiagnosticTargets {
+                classification: frame_target(ctx, "diagnostics: classification", desc.width, desc.height)?,
+                points: frame_target(ctx, "diagnostics: silhouette points", desc.width, desc.height)?,
+            })
         } else {
             None
         };
         let overdraw = if desc.shadow_volume.overdraw {
-            let image = Image::new(
-                ctx,
-                "volume overdraw",
-                ImageDesc::new_2d(COLOR_FORMAT, desc.width, desc.height)
-                    .usage(vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC),
-            )?;
+            let image = frame_target(ctx, "volume overdraw", desc.width, desc.height)?;
             let readback = Buffer::new(
                 ctx,
                 "overdraw readback",
@@ -670,6 +663,12 @@ impl Renderer {
             }
         }
     }
+}
+
+/// A frame-sized RGBA8 image rendered to and copied out (colour, overdraw, diagnostic views).
+fn frame_target(ctx: &Context, name: &str, width: u32, height: u32) -> RenderResult<Image> {
+    let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
+    Ok(Image::new(ctx, name, ImageDesc::new_2d(COLOR_FORMAT, width, height).usage(usage))?)
 }
 
 /// The report of one light's volumes.
