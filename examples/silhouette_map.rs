@@ -43,7 +43,8 @@ fn write_debug_views(args: &Args, frame: &umbra::shadows::Frame, d: &LightDiagno
     let (w, h) = (frame.width, frame.height);
     let out = &args.common.out;
     let points = out.join(format!("silhouette_map-points-{}.png", d.light));
-    image::save_buffer(&points, &d.points_over(&frame.rgba), w, h, image::ColorType::Rgba8)?;
+    let over = d.points_over(&frame.rgba).ok_or_else(|| anyhow::anyhow!("light {} has no points view", d.light))?;
+    image::save_buffer(&points, &over, w, h, image::ColorType::Rgba8)?;
     let classes = out.join(format!("silhouette_map-classes-{}.png", d.light));
     image::save_buffer(&classes, &d.classification, w, h, image::ColorType::Rgba8)?;
     println!("wrote {} and {}", points.display(), classes.display());

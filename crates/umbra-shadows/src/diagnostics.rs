@@ -1,7 +1,8 @@
-//! Diagnostic views, rendered on request (`RendererDesc::diagnostics`) by a pass per light
-//! that is not part of the technique's cost: the per-pixel classification (Chan–Durand
-//! Fig. 6b colours, `shaders-glsl/debug/classes.glsl`), a mask of the silhouette points as the
-//! camera sees them (Sen et al. Fig. 9, middle), and the silhouette map itself.
+//! Diagnostic views, rendered on request (`RendererDesc::diagnostics`) by passes per light
+//! that are not part of the technique's cost: the per-pixel classification (Chan–Durand
+//! Fig. 6b colours, `shaders-glsl/debug/classes.glsl`); for silhouette maps, a mask of the
+//! silhouette points as the camera sees them (Sen et al. Fig. 9, middle) and the map itself;
+//! for the hybrid, the stencil after its volumes and the fill image (Chan–Durand Fig. 10).
 
 use umbra_vk::Image;
 
@@ -72,10 +73,14 @@ pub struct LightDiagnostics {
     pub light: usize,
     /// Per-pixel classification (decode with [`PixelClass::decode`]).
     pub classification: Vec<u8>,
-    /// Red (alpha 255) where the pixel shows a stored silhouette point; alpha 0 elsewhere.
-    pub points: Vec<u8>,
+    /// Silhouette-map lights: red (alpha 255) where the pixel shows a stored silhouette point,
+    /// alpha 0 elsewhere.
+    pub points: Option<Vec<u8>>,
     /// The silhouette map, for silhouette-map lights.
     pub silhouette_map: Option<SilhouetteMapImage>,
+    /// Hybrid lights: the stencil after the volume pass, one byte per pixel (with the
+    /// `stencil` mask, bit 7 marks silhouette pixels and bits 0–6 hold the count).
+    pub stencil: Option<Vec<u8>>,
 }
 
 impl LightDiagnostics {
@@ -88,12 +93,36 @@ impl LightDiagnostics {
     }
 
     /// The silhouette points drawn over `frame_rgba` (the frame's pixels): Sen et al. Fig. 9,
-    /// middle.
-    pub fn points_over(&self, frame_rgba: &[u8]) -> Vec<u8> {
-        frame_rgba
+    /// middle. `None` for lights without points.
+    pub fn points_over(&self, frame_rgba: &[u8]) -> Option<Vec<u8>> {
+        let points = self.points.as_ref()?;
+        Some(
+            frame_rgba
+                .chunks_exact(4)
+                .zip(points.chunks_exact(4))
+                .flat_map(|(f, m)| if m[3] > 127 { [m[0], m[1], m[2], 255] } else { [f[0], f[1], f[2], f[3]] })
+                .collect(),
+        )
+    }
+
+    /// Chan–Durand Fig. 10: volume overdraw in yellow (brighter where more volume fragments
+    /// land; `overdraw` is `Frame::overdraw`, its red channel a count per pixel) with this
+    /// light's silhouette pixels in green on top.
+    pub fn fill_image(&self, overdraw: &[u8]) -> Vec<u8> {
+        let max = overdraw.chunks_exact(4).map(|p| p[0]).max().unwrap_or(0).max(1);
+        self.classification
             .chunks_exact(4)
-            .zip(self.points.chunks_exact(4))
-            .flat_map(|(f, m)| if m[3] > 127 { [m[0], m[1], m[2], 255] } else { [f[0], f[1], f[2], f[3]] })
+            .zip(overdraw.chunks_exact(4))
+            .flat_map(|(c, o)| {
+                if PixelClass::decode([c[0], c[1], c[2], c[3]]).is_silhouette() {
+                    [0, 255, 0, 255]
+                } else if o[0] == 0 {
+                    [0, 0, 0, 255]
+                } else {
+                    let v = (48 + u32::from(o[0]) * 207 / u32::from(max)) as u8;
+                    [v, v, 0, 255]
+                }
+            })
             .collect()
     }
 }

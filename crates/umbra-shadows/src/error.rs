@@ -11,14 +11,6 @@ pub enum RenderError {
     /// The scene is invalid.
     #[error(transparent)]
     Scene(#[from] umbra_scene::SceneError),
-    /// A light asks for a technique this version of umbra does not provide yet.
-    #[error("light {light} asks for {technique:?}, which this build of umbra does not implement yet (available: {available})", available = crate::plan::AVAILABLE_TECHNIQUES.iter().map(|t| t.name()).collect::<Vec<_>>().join(", "))]
-    TechniqueUnavailable {
-        /// Index of the light.
-        light: usize,
-        /// The technique it asked for.
-        technique: Technique,
-    },
     /// A light's kind cannot use the technique it asks for.
     #[error("light {light} asks for {technique:?}: {why}")]
     UnsupportedLight {

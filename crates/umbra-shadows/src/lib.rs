@@ -6,7 +6,8 @@
 //! [`FrameReport`] (device, capabilities, scene, per-light plan, per-pass GPU times) that
 //! serialises to JSON.
 //!
-//! Techniques available in this build: [`plan::AVAILABLE_TECHNIQUES`].
+//! Techniques: [`shadow_map`], [`shadow_volume`], [`silhouette_map`] and [`hybrid`], each a
+//! module that reads top to bottom as its paper's passes.
 
 #![warn(missing_docs)]
 
@@ -14,6 +15,7 @@ pub mod diagnostics;
 mod error;
 mod forward;
 mod gpu_scene;
+pub mod hybrid;
 pub mod plan;
 mod renderer;
 mod report;
@@ -24,7 +26,8 @@ mod timing;
 
 pub use diagnostics::{LightDiagnostics, PixelClass, SilhouetteMapImage};
 pub use error::{RenderError, RenderResult};
-pub use plan::{CasterMode, LightPlan, ShadowMapReport, ShadowVolumeReport, SilhouetteMapReport};
+pub use hybrid::{HybridSettings, MaskKind};
+pub use plan::{CasterMode, HybridReport, LightPlan, ShadowMapReport, ShadowVolumeReport, SilhouetteMapReport};
 pub use renderer::{Frame, Renderer, RendererDesc, COLOR_FORMAT};
 pub use report::{FrameReport, SceneSummary};
 pub use shadow_map::{DepthBias, ShadowFilter, ShadowMapSettings};

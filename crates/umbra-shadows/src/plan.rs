@@ -5,6 +5,7 @@
 //! This is the seam where shadow techniques plug in: each light carries the technique the
 //! scene asked for, and the renderer records that technique's passes for it.
 
+use crate::hybrid::MaskKind;
 use crate::{RenderError, RenderResult};
 use serde::Serialize;
 use umbra_scene::{LightKind, Scene, Technique};
@@ -30,6 +31,9 @@ pub struct LightPlan {
     pub shadow_volume: Option<ShadowVolumeReport>,
     /// Its silhouette map this frame, if any (its depth map is `shadow_map`).
     pub silhouette_map: Option<SilhouetteMapReport>,
+    /// The hybrid's figures this frame, if it used one (its map is `shadow_map`, its volumes
+    /// `shadow_volume`).
+    pub hybrid: Option<HybridReport>,
     /// What the renderer decided beyond the plan (e.g. a shadow map not needed this frame).
     pub note: Option<String>,
 }
@@ -67,6 +71,30 @@ pub struct SilhouetteMapReport {
     pub silhouette_fraction: Option<f64>,
 }
 
+/// A hybrid light in one frame (Chan–Durand §5's figures).
+#[derive(Clone, Debug, Serialize)]
+pub struct HybridReport {
+    /// The computation mask used: `depth-bounds`, `stencil` or `none`.
+    pub mask: MaskKind,
+    /// The lower depth bound with `depth-bounds` (the upper is 1).
+    pub depth_bounds_epsilon: Option<f32>,
+    /// Pixels whose hardware-PCF result lay strictly between 0 and 1 on a surface facing the
+    /// light: the only pixels the volumes decide (an occlusion query on the mask pass).
+    pub silhouette_pixels: u64,
+    /// `silhouette_pixels` over the image's pixel count (P).
+    pub silhouette_fraction: f64,
+    /// Casters whose volumes were drawn.
+    pub volume_casters: usize,
+    /// Casters dropped by blocker culling (§6.3), when it ran.
+    pub culled_casters: Option<usize>,
+    /// Volume fragments rasterized without any mask (O; with `ShadowVolumeSettings::overdraw`).
+    pub volume_fragments: Option<u64>,
+    /// Volume fragments the mask let through to the stencil test (with `overdraw`).
+    pub masked_volume_fragments: Option<u64>,
+    /// GPU time of the masked stencil pass (`hybrid volumes N`).
+    pub stencil_gpu_ms: Option<f64>,
+}
+
 /// A light's shadow volumes as built and counted in one frame.
 #[derive(Clone, Debug, Serialize)]
 pub struct ShadowVolumeReport {
@@ -102,10 +130,6 @@ pub struct CasterMode {
     pub triangles: usize,
 }
 
-/// Techniques this build records (the others return [`RenderError::TechniqueUnavailable`]).
-pub const AVAILABLE_TECHNIQUES: &[Technique] =
-    &[Technique::Unshadowed, Technique::ShadowMap, Technique::ShadowVolume, Technique::SilhouetteMap];
-
 /// Why silhouette maps refuse lights that need a cube map.
 pub(crate) const SILHOUETTE_CUBE_UNSUPPORTED: &str =
     "silhouette maps need one 2D depth map, and point lights (and spots \
@@ -126,9 +150,6 @@ pub fn plan_lights(scene: &Scene) -> RenderResult<Vec<LightPlan>> {
             } else {
                 None
             };
-            if skip.is_none() && !AVAILABLE_TECHNIQUES.contains(&l.technique) {
-                return Err(RenderError::TechniqueUnavailable { light: i, technique: l.technique });
-            }
             if skip.is_none() && l.technique == Technique::SilhouetteMap && l.kind() == LightKind::Point {
                 return Err(RenderError::UnsupportedLight {
                     light: i,
@@ -146,6 +167,7 @@ pub fn plan_lights(scene: &Scene) -> RenderResult<Vec<LightPlan>> {
                 shadow_map: None,
                 shadow_volume: None,
                 silhouette_map: None,
+                hybrid: None,
                 note: None,
             })
         })
@@ -166,16 +188,6 @@ mod tests {
         assert!(plan[0].recorded);
         assert!(!plan[1].recorded);
         assert!(plan[1].skipped_because.as_deref().unwrap().contains("zero radiance"));
-    }
-
-    #[test]
-    fn unavailable_techniques_are_typed_errors() {
-        let mut s = umbra_scene::procedural::build("ball").unwrap();
-        s.lights[0].technique = Technique::Hybrid;
-        assert!(matches!(
-            plan_lights(&s),
-            Err(RenderError::TechniqueUnavailable { light: 0, technique: Technique::Hybrid })
-        ));
     }
 
     #[test]

@@ -18,7 +18,10 @@
 use crate::diagnostics::{self, DiagnosticTargets, LightDiagnostics, SilhouetteMapImage};
 use crate::forward::Forward;
 use crate::gpu_scene::{self, GpuScene, GpuShadow};
-use crate::plan::{plan_lights, LightPlan, ShadowMapReport};
+use crate::hybrid::cull;
+use crate::hybrid::pass::{HybridLight, HybridPass, HybridReadback};
+use crate::hybrid::{HybridSettings, MaskKind, DEPTH_BOUNDS_EPSILON};
+use crate::plan::{plan_lights, HybridReport, LightPlan, ShadowMapReport};
 use crate::plan::{CasterMode, ShadowVolumeReport, SilhouetteMapReport, SILHOUETTE_CUBE_UNSUPPORTED};
 use crate::report::{FrameReport, SceneSummary};
 use crate::shadow_map::frustum::{self, LightViews, MapKind};
@@ -26,6 +29,7 @@ use crate::shadow_map::pass::{self, ShadowMapPass};
 use crate::shadow_map::{DepthBias, ShadowMapSettings};
 use crate::shadow_volume::build::{self as volumes, Counting, LightVolumes};
 use crate::shadow_volume::pass::{ShadowVolumePass, VolumeBindings};
+use crate::shadow_volume::VolumeMode;
 use crate::shadow_volume::{FarPlane, ShadowVolumeSettings};
 use crate::silhouette_map::edges::{self, EdgeInstance, LightEdges};
 use crate::silhouette_map::pass::SilhouetteMapPass;
@@ -53,8 +57,11 @@ pub struct RendererDesc {
     pub height: u32,
     /// Shadow-map settings for lights whose technique is `shadow_map`.
     pub shadow_map: ShadowMapSettings,
-    /// Shadow-volume settings for lights whose technique is `shadow_volume`.
+    /// Shadow-volume settings for lights whose technique is `shadow_volume` (`hybrid` lights
+    /// use its far-plane choice and `overdraw`).
     pub shadow_volume: ShadowVolumeSettings,
+    /// Settings of lights whose technique is `hybrid`.
+    pub hybrid: HybridSettings,
     /// Render the diagnostic views of every silhouette-map light ([`Frame::diagnostics`]) and
     /// count its silhouette pixels: one more pass and readback per such light, reported as a
     /// diagnostic pass. Off by default.
@@ -69,6 +76,7 @@ impl RendererDesc {
             height,
             shadow_map: ShadowMapSettings::DEFAULT,
             shadow_volume: ShadowVolumeSettings::default(),
+            hybrid: HybridSettings::default(),
             diagnostics: false,
         }
     }
@@ -131,6 +139,9 @@ pub struct Renderer {
     shadow_map: ShadowMapPass,
     shadow_volume: ShadowVolumePass,
     silhouette_map: SilhouetteMapPass,
+    hybrid: HybridPass,
+    /// The computation mask of hybrid lights (`desc.hybrid.mask`, or the device's best).
+    mask: MaskKind,
     /// Classification and silhouette-point targets (with `diagnostics`).
     diagnostic_targets: Option<DiagnosticTargets>,
     /// Welded connectivity per mesh, kept while the mesh is unchanged.
@@ -181,7 +192,7 @@ impl Renderer {
             ctx,
             "depth/stencil target",
             ImageDesc::new_2d(depth_format, desc.width, desc.height)
-                .usage(vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT),
+                .usage(vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC),
         )?;
         let readback =
             Buffer::new(ctx, "colour readback", BufferDesc::readback(4 * desc.width as u64 * desc.height as u64))?;
@@ -196,6 +207,12 @@ impl Renderer {
         }
         let shadow_volume = ShadowVolumePass::new(ctx, &layout, depth_format, &desc.shadow_volume)?;
         let silhouette_map = SilhouetteMapPass::new(ctx, &layout, COLOR_FORMAT, depth_format, &desc.shadow_map)?;
+        let mask = desc.hybrid.mask.unwrap_or(MaskKind::best_for(caps.depth_bounds));
+        if mask == MaskKind::DepthBounds && !caps.depth_bounds {
+            return Err(ctx.unsupported("the hybrid's depth-bounds computation mask (depthBounds)").into());
+        }
+        let clamp = desc.shadow_volume.far_plane == FarPlane::DepthClamp;
+        let hybrid = HybridPass::new(ctx, &layout, COLOR_FORMAT, depth_format, &desc.shadow_map, clamp)?;
         let diagnostic_targets = if desc.diagnostics {
             Some(DiagnosticTargets {
                 classification: frame_target(ctx, "diagnostics: classification", desc.width, desc.height)?,
@@ -228,6 +245,8 @@ impl Renderer {
             shadow_map,
             shadow_volume,
             silhouette_map,
+            hybrid,
+            mask,
             diagnostic_targets,
             adjacency: Vec::new(),
             overdraw,
@@ -239,6 +258,11 @@ impl Renderer {
         self.desc
     }
 
+    /// The computation mask hybrid lights use on this device.
+    pub fn mask(&self) -> MaskKind {
+        self.mask
+    }
+
     /// Renders one frame of `scene` and reads it back.
     pub fn render(&mut self, scene: &Scene) -> RenderResult<Frame> {
         let started = Instant::now();
@@ -246,7 +270,7 @@ impl Renderer {
         let aspect = self.desc.width as f32 / self.desc.height as f32;
         let volume_settings = self.desc.shadow_volume;
         let uses = |l: &LightPlan, t: Technique| l.recorded && l.technique == t;
-        let uses_volumes = lights.iter().any(|l| uses(l, Technique::ShadowVolume));
+        let uses_volumes = lights.iter().any(|l| uses(l, Technique::ShadowVolume) || uses(l, Technique::Hybrid));
         // Shadow volumes reach infinity: the frame uses P_inf unless depth clamp does the job.
         let camera_used = if uses_volumes {
             volumes::volume_camera(&scene.camera, volume_settings.far_plane == FarPlane::Infinite)
@@ -271,8 +295,9 @@ impl Renderer {
         // Depth-bias clamp per light, in map depth units (0: none, or no `depthBiasClamp`).
         let mut bias_clamps = vec![0.0f32; scene.lights.len()];
         let mut edge_instances: Vec<EdgeInstance> = Vec::new();
-        let map_lights =
-            lights.iter_mut().filter(|l| uses(l, Technique::ShadowMap) || uses(l, Technique::SilhouetteMap));
+        let hybrid_resolution = HybridSettings::default_resolution(self.desc.width, self.desc.height);
+        let map_techniques = [Technique::ShadowMap, Technique::SilhouetteMap, Technique::Hybrid];
+        let map_lights = lights.iter_mut().filter(|l| map_techniques.iter().any(|&t| uses(l, t)));
         for plan in map_lights {
             let light = &scene.lights[plan.light];
             let Some(views) = frustum::fit(light, scene, &boxes, camera) else {
@@ -287,7 +312,10 @@ impl Renderer {
                     why: SILHOUETTE_CUBE_UNSUPPORTED.into(),
                 });
             }
-            let resolution = light.shadow_map_size.unwrap_or(settings.resolution);
+            let resolution = light.shadow_map_size.unwrap_or(match plan.technique {
+                Technique::Hybrid => self.desc.hybrid.resolution.unwrap_or(hybrid_resolution),
+                _ => settings.resolution,
+            });
             self.shadow_map.prepare(&self.ctx, plan.light, resolution, views.kind)?;
             shadows[plan.light] = GpuShadow {
                 kind: match (views.kind, silhouette) {
@@ -338,11 +366,16 @@ impl Renderer {
             let bytes: &[u8] = bytemuck::cast_slice(&edge_instances);
             Some(Buffer::with_data(&self.ctx, "silhouette edges", vk::BufferUsageFlags::VERTEX_BUFFER, bytes)?)
         };
-        // Shadow volumes: every caster's volume per light, built on the CPU.
+        // Shadow volumes: every caster's volume per light, built on the CPU (z-fail only for
+        // hybrid lights, Chan–Durand §3 step 3; none for a hybrid light without a map).
         let mut built: Vec<Option<LightVolumes>> = vec![None; scene.lights.len()];
         let mut volume_vertices = Vec::new();
-        for plan in lights.iter_mut().filter(|l| uses(l, Technique::ShadowVolume)) {
+        let volume_lights = lights
+            .iter_mut()
+            .filter(|l| uses(l, Technique::ShadowVolume) || (uses(l, Technique::Hybrid) && fitted[l.light].is_some()));
+        for plan in volume_lights {
             let light = &scene.lights[plan.light];
+            let mode = if plan.technique == Technique::Hybrid { VolumeMode::ZFail } else { volume_settings.mode };
             let v = volumes::build_light(
                 scene,
                 &adjacency,
@@ -350,10 +383,9 @@ impl Renderer {
                 light,
                 &camera_used,
                 aspect,
-                volume_settings.mode,
+                mode,
                 &mut volume_vertices,
             );
-            plan.shadow_volume = Some(volume_report(scene, &v));
             built[plan.light] = Some(v);
         }
         let volume_buffer = if volume_vertices.is_empty() {
@@ -362,11 +394,52 @@ impl Renderer {
             let bytes: &[u8] = bytemuck::cast_slice(&volume_vertices);
             Some(Buffer::with_data(&self.ctx, "shadow volume vertices", vk::BufferUsageFlags::VERTEX_BUFFER, bytes)?)
         };
-        let volume_lights = built.iter().flatten().count() as u32;
-        let fragment_queries = match (&self.overdraw, volume_lights) {
-            (Some(_), n) if n > 0 => Some(QueryPool::new(&self.ctx, "volume fragments", QueryKind::Occlusion, n)?),
-            _ => None,
+        // Hybrid lights: their queries (mask samples, masked volume fragments) and, with
+        // blocker culling, one box per caster of a 2D map.
+        let hybrids: Vec<usize> =
+            (0..scene.lights.len()).filter(|&l| built[l].is_some() && fitted[l].is_some()).collect();
+        let hybrids: Vec<usize> =
+            hybrids.into_iter().filter(|&l| scene.lights[l].technique == Technique::Hybrid).collect();
+        let mut culling = CullingPlan::default();
+        if self.desc.hybrid.cull_blockers {
+            for &l in &hybrids {
+                let (Some(v), Some(views)) = (&built[l], &fitted[l]) else { continue };
+                if views.kind != MapKind::Single {
+                    continue;
+                }
+                for (i, c) in v.casters.iter().enumerate() {
+                    if let Some(b) = boxes.get(c.object).copied().flatten() {
+                        if cull::queryable(&scene.lights[l], &b) {
+                            cull::box_triangles(&b, &mut culling.vertices);
+                            culling.boxes.push((l, i));
+                        }
+                    }
+                }
+            }
+        }
+        let culling_buffer = if culling.boxes.is_empty() {
+            None
+        } else {
+            let bytes: &[u8] = bytemuck::cast_slice(&culling.vertices);
+            Some(Buffer::with_data(&self.ctx, "blocker boxes", vk::BufferUsageFlags::VERTEX_BUFFER, bytes)?)
         };
+        let culling_queries = match culling.boxes.len() as u32 {
+            0 => None,
+            n => Some(QueryPool::new(&self.ctx, "blocker culling", QueryKind::Occlusion, n)?),
+        };
+        // Per hybrid light h: query h counts the mask pass's samples and, with `overdraw`,
+        // query n + h the volume fragments through the mask.
+        let counts_fragments = self.overdraw.is_some();
+        let hybrid_queries = match hybrids.len() as u32 {
+            0 => None,
+            n => {
+                let count = if counts_fragments { 2 * n } else { n };
+                Some(QueryPool::new(&self.ctx, "hybrid samples", QueryKind::Occlusion, count)?)
+            }
+        };
+        if !hybrids.is_empty() {
+            self.hybrid.prepare(&self.ctx, self.desc.width, self.desc.height, self.mask == MaskKind::DepthBounds)?;
+        }
 
         let gpu =
             GpuScene::upload(&self.ctx, &self.scene_set_layout, scene, &camera_used, aspect, &shadows, &shadow_views)?;
@@ -375,8 +448,12 @@ impl Renderer {
             .filter(|l| l.recorded)
             .map(|l| {
                 let has_map = fitted[l.light].is_some().then_some(l.light);
-                let silhouette = self.silhouette_map.image(silhouettes[l.light].map(|_| l.light));
-                self.shadow_map.descriptor_set(&self.ctx, &self.shadow_set_layout, has_map, silhouette)
+                let hybrid = hybrids.contains(&l.light);
+                let technique_image = match (hybrid, self.hybrid.classes()) {
+                    (true, Some(classes)) => classes,
+                    _ => self.silhouette_map.image(silhouettes[l.light].map(|_| l.light)),
+                };
+                self.shadow_map.descriptor_set(&self.ctx, &self.shadow_set_layout, has_map, hybrid, technique_image)
             })
             .collect::<RenderResult<Vec<_>>>()?;
         // Pass 2 reads the depth map raw while it writes the silhouette map, which its set
@@ -385,7 +462,7 @@ impl Renderer {
             .map(|l| match silhouettes[l] {
                 Some(_) => self
                     .shadow_map
-                    .descriptor_set(&self.ctx, &self.shadow_set_layout, Some(l), self.silhouette_map.image(None))
+                    .descriptor_set(&self.ctx, &self.shadow_set_layout, Some(l), false, self.silhouette_map.image(None))
                     .map(Some),
                 None => Ok(None),
             })
@@ -405,6 +482,13 @@ impl Renderer {
                 )
             })
             .collect::<RenderResult<Vec<_>>>()?;
+        let hybrid_readbacks = match self.desc.diagnostics {
+            true => hybrids
+                .iter()
+                .map(|_| HybridReadback::new(&self.ctx, self.desc.width, self.desc.height))
+                .collect::<RenderResult<Vec<_>>>()?,
+            false => Vec::new(),
+        };
         // Poison the readback so a copy that never happened cannot pass for a frame.
         let poison = vec![0xCD; self.readback.desc.size as usize];
         self.readback.write(0, &poison)?;
@@ -415,47 +499,24 @@ impl Renderer {
             + fitted.iter().flatten().count()
             + silhouettes.iter().flatten().count()
             + diagnosed.len()
-            + 2 * volume_lights as usize;
+            + 2 * built.iter().flatten().count()
+            + 7 * hybrids.len()
+            + usize::from(culling_queries.is_some());
+        let volume_lights = built.iter().flatten().count() as u32;
+        let fragment_queries = match (&self.overdraw, volume_lights) {
+            (Some(_), n) if n > 0 => Some(QueryPool::new(&self.ctx, "volume fragments", QueryKind::Occlusion, n)?),
+            _ => None,
+        };
         let timer = PassTimer::new(&self.ctx, passes)?;
         let mut log = PassLog::default();
         let mut rec = self.ctx.begin_commands("frame")?;
         timer.reset(&mut rec);
-        if let Some(q) = &fragment_queries {
-            rec.reset_queries(q);
+        for pool in [&culling_queries, &hybrid_queries, &fragment_queries].into_iter().flatten() {
+            rec.reset_queries(pool);
         }
-        rec.transition(&[
-            (&self.color, ImageState::Undefined, ImageState::ColorAttachment),
-            (&self.depth, ImageState::Undefined, ImageState::DepthStencilAttachment),
-        ]);
 
-        let bg = scene.background;
-        timer.begin(&mut rec, &mut log, "ambient".into(), None);
-        let clear_color = [ColorAttachment { image: &self.color, clear: Some([bg.x, bg.y, bg.z, 1.0]) }];
-        rec.begin_rendering(&RenderTargets {
-            color: &clear_color,
-            depth: Some(DepthAttachment {
-                image: &self.depth,
-                view: None,
-                clear: Some((1.0, 0)),
-                clear_stencil: None,
-                read_only: false,
-            }),
-        });
-        self.forward.record_ambient(&mut rec, &self.layout, &gpu, scene, &mut log);
-        rec.end_rendering();
-        timer.end(&mut rec, &log);
-
-        let load_color = [ColorAttachment { image: &self.color, clear: None }];
-        let keep_depth = |clear_stencil| DepthAttachment {
-            image: &self.depth,
-            view: None,
-            clear: None,
-            clear_stencil,
-            read_only: false,
-        };
-        let mut overdraw_query = 0;
-        let mut diagnosed_so_far = 0;
-        for (plan, shadow_set) in lights.iter().filter(|l| l.recorded).zip(&shadow_sets) {
+        // The lights' views first: shadow maps, silhouette points, blocker culling.
+        for plan in lights.iter().filter(|l| l.recorded) {
             if let Some(views) = &fitted[plan.light] {
                 timer.begin(&mut rec, &mut log, format!("shadow_map {}", plan.light), Some(plan.light));
                 let first_view = shadows[plan.light].first_view;
@@ -487,41 +548,137 @@ impl Renderer {
                 )?;
                 timer.end(&mut rec, &log);
             }
+        }
+        let mut rec = match (&culling_buffer, &culling_queries) {
+            (Some(vertices), Some(queries)) => {
+                timer.begin(&mut rec, &mut log, "blocker culling".into(), None);
+                let mut first = 0;
+                for &l in &hybrids {
+                    let n = culling.boxes.iter().filter(|(light, _)| *light == l).count() as u32;
+                    if n == 0 {
+                        continue;
+                    }
+                    let map = self.shadow_map.image(l)?;
+                    let view = shadows[l].first_view;
+                    self.hybrid.record_culling(
+                        &mut rec,
+                        &self.layout,
+                        &gpu,
+                        map,
+                        vertices,
+                        first..first + n,
+                        view,
+                        queries,
+                        first,
+                        &mut log,
+                    );
+                    first += n;
+                }
+                timer.end(&mut rec, &log);
+                // The volumes to draw depend on the answers: read them before going on.
+                self.ctx.submit_and_wait(rec)?;
+                let visible = queries.results()?;
+                culling.apply(&visible, &mut built);
+                self.ctx.begin_commands("frame (after blocker culling)")?
+            }
+            _ => rec,
+        };
+        for plan in lights.iter_mut().filter(|l| built[l.light].is_some()) {
+            if let Some(v) = &built[plan.light] {
+                plan.shadow_volume = Some(volume_report(scene, v));
+            }
+        }
+
+        rec.transition(&[
+            (&self.color, ImageState::Undefined, ImageState::ColorAttachment),
+            (&self.depth, ImageState::Undefined, ImageState::DepthStencilAttachment),
+        ]);
+        let bg = scene.background;
+        timer.begin(&mut rec, &mut log, "ambient".into(), None);
+        let clear_color = [ColorAttachment { image: &self.color, clear: Some([bg.x, bg.y, bg.z, 1.0]) }];
+        rec.begin_rendering(&RenderTargets {
+            color: &clear_color,
+            depth: Some(DepthAttachment {
+                image: &self.depth,
+                view: None,
+                clear: Some((1.0, 0)),
+                clear_stencil: None,
+                read_only: false,
+            }),
+        });
+        self.forward.record_ambient(&mut rec, &self.layout, &gpu, scene, &mut log);
+        rec.end_rendering();
+        timer.end(&mut rec, &log);
+
+        let load_color = [ColorAttachment { image: &self.color, clear: None }];
+        let keep_depth = |clear_stencil| DepthAttachment {
+            image: &self.depth,
+            view: None,
+            clear: None,
+            clear_stencil,
+            read_only: false,
+        };
+        let mut overdraw_query = 0;
+        let mut diagnosed_so_far = 0;
+        for (plan, shadow_set) in lights.iter().filter(|l| l.recorded).zip(&shadow_sets) {
             let volumes = built[plan.light].as_ref().zip(volume_buffer.as_ref());
-            if let Some((v, buffer)) = volumes {
-                timer.begin(&mut rec, &mut log, format!("shadow_volume {}", plan.light), Some(plan.light));
-                rec.begin_rendering(&RenderTargets { color: &[], depth: Some(keep_depth(Some(0))) });
-                self.shadow_volume.record_stencil(
+            if let Some(h) = hybrids.iter().position(|&l| l == plan.light) {
+                let (Some(v), Some(queries)) = (&built[plan.light], &hybrid_queries) else { continue };
+                let light = HybridLight {
+                    light: plan.light,
+                    mask: self.mask,
+                    first_in_frame: h == 0,
+                    layout: &self.layout,
+                    gpu: &gpu,
+                    scene,
+                    shadow_set,
+                    color: &self.color,
+                    depth: &self.depth,
+                    volumes: v,
+                    vertices: volume_buffer.as_ref(),
+                    zfail: self.shadow_volume.zfail(),
+                    queries,
+                    first_query: h as u32,
+                    fragment_query: counts_fragments.then_some((hybrids.len() + h) as u32),
+                    readback: hybrid_readbacks.get(h),
+                };
+                self.hybrid.record_light(&mut rec, &timer, &mut log, light);
+            } else {
+                if let Some((v, buffer)) = volumes {
+                    timer.begin(&mut rec, &mut log, format!("shadow_volume {}", plan.light), Some(plan.light));
+                    rec.begin_rendering(&RenderTargets { color: &[], depth: Some(keep_depth(Some(0))) });
+                    self.shadow_volume.record_stencil(
+                        &mut rec,
+                        VolumeBindings { layout: &self.layout, gpu: &gpu, vertices: buffer },
+                        v,
+                        plan.light as u32,
+                        &mut log,
+                    );
+                    rec.end_rendering();
+                    timer.end(&mut rec, &log);
+                }
+                timer.begin(
                     &mut rec,
-                    VolumeBindings { layout: &self.layout, gpu: &gpu, vertices: buffer },
-                    v,
+                    &mut log,
+                    format!("light {} ({:?})", plan.light, plan.kind).to_lowercase(),
+                    Some(plan.light),
+                );
+                rec.begin_rendering(&RenderTargets { color: &load_color, depth: Some(keep_depth(None)) });
+                // Test the stencil only after this light's own stencil pass (which cleared it).
+                let stenciled = volumes.is_some();
+                self.forward.record_light(
+                    &mut rec,
+                    &self.layout,
+                    &gpu,
+                    shadow_set,
+                    scene,
                     plan.light as u32,
+                    stenciled,
                     &mut log,
                 );
                 rec.end_rendering();
                 timer.end(&mut rec, &log);
             }
-            timer.begin(
-                &mut rec,
-                &mut log,
-                format!("light {} ({:?})", plan.light, plan.kind).to_lowercase(),
-                Some(plan.light),
-            );
-            rec.begin_rendering(&RenderTargets { color: &load_color, depth: Some(keep_depth(None)) });
-            // Test the stencil only after this light's own stencil pass (which cleared it).
-            let stenciled = volumes.is_some();
-            self.forward.record_light(
-                &mut rec,
-                &self.layout,
-                &gpu,
-                shadow_set,
-                scene,
-                plan.light as u32,
-                stenciled,
-                &mut log,
-            );
-            rec.end_rendering();
-            timer.end(&mut rec, &log);
             if let (Some((v, buffer)), Some((image, _)), Some(q)) = (volumes, &self.overdraw, &fragment_queries) {
                 timer.begin_diagnostic(&mut rec, &mut log, format!("volume overdraw {}", plan.light), plan.light);
                 if overdraw_query == 0 {
@@ -611,7 +768,7 @@ impl Renderer {
             }
         }
         let image_pixels = u64::from(self.desc.width) * u64::from(self.desc.height);
-        let mut diagnostics = Vec::with_capacity(diagnosed.len());
+        let mut diagnostics = Vec::with_capacity(diagnosed.len() + hybrid_readbacks.len());
         for (&light, out) in diagnosed.iter().zip(&diagnostic_buffers) {
             let d = out.read(light)?;
             if let Some(r) = lights[light].silhouette_map.as_mut() {
@@ -620,6 +777,39 @@ impl Renderer {
                 r.silhouette_fraction = Some(n as f64 / image_pixels as f64);
             }
             diagnostics.push(d);
+        }
+        if let Some(q) = &hybrid_queries {
+            let samples = q.results()?;
+            for (h, &l) in hybrids.iter().enumerate() {
+                let kept = samples[h];
+                // The depth-bounds mask pass keeps the other pixels; the others keep silhouettes.
+                let silhouette_pixels = match self.mask {
+                    MaskKind::DepthBounds => image_pixels.saturating_sub(kept),
+                    _ => kept,
+                };
+                let plan = &mut lights[l];
+                let volume_fragments = plan.shadow_volume.as_ref().and_then(|r| r.volume_fragments);
+                plan.hybrid = Some(HybridReport {
+                    mask: self.mask,
+                    depth_bounds_epsilon: (self.mask == MaskKind::DepthBounds).then_some(DEPTH_BOUNDS_EPSILON),
+                    silhouette_pixels,
+                    silhouette_fraction: silhouette_pixels as f64 / image_pixels as f64,
+                    volume_casters: built[l].as_ref().map_or(0, |v| v.casters.len()),
+                    culled_casters: culling.culled(l),
+                    volume_fragments,
+                    masked_volume_fragments: match self.mask {
+                        MaskKind::None => volume_fragments,
+                        _ => counts_fragments.then(|| samples[hybrids.len() + h]),
+                    },
+                    stencil_gpu_ms: passes
+                        .iter()
+                        .find(|p| p.light == Some(l) && p.name.starts_with("hybrid volumes"))
+                        .and_then(|p| p.gpu_ms),
+                });
+            }
+            for (&l, out) in hybrids.iter().zip(&hybrid_readbacks) {
+                diagnostics.push(out.read(l, self.mask)?);
+            }
         }
         let caps = self.ctx.capabilities();
         let sum = |diagnostic: bool| {
@@ -669,6 +859,41 @@ impl Renderer {
 fn frame_target(ctx: &Context, name: &str, width: u32, height: u32) -> RenderResult<Image> {
     let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
     Ok(Image::new(ctx, name, ImageDesc::new_2d(COLOR_FORMAT, width, height).usage(usage))?)
+}
+
+/// Blocker culling's queries in one frame: a box per (hybrid light, caster index).
+#[derive(Default)]
+struct CullingPlan {
+    boxes: Vec<(usize, usize)>,
+    vertices: Vec<glam::Vec4>,
+    /// Casters dropped per light, once the answers are in.
+    culled: Vec<(usize, usize)>,
+}
+
+impl CullingPlan {
+    /// Drops from `built` every queried caster whose box had no visible sample.
+    fn apply(&mut self, visible: &[u64], built: &mut [Option<LightVolumes>]) {
+        let mut dropped: Vec<(usize, usize)> =
+            self.boxes.iter().zip(visible).filter(|(_, &n)| n == 0).map(|(&b, _)| b).collect();
+        // Highest caster index first, so earlier indices stay valid.
+        dropped.sort_by(|a, b| b.cmp(a));
+        for &(light, caster) in &dropped {
+            if let Some(v) = built[light].as_mut() {
+                v.casters.remove(caster);
+            }
+        }
+        for &(light, _) in &self.boxes {
+            if !self.culled.iter().any(|&(l, _)| l == light) {
+                let n = dropped.iter().filter(|&&(l, _)| l == light).count();
+                self.culled.push((light, n));
+            }
+        }
+    }
+
+    /// Casters culled for `light`, when its boxes were queried.
+    fn culled(&self, light: usize) -> Option<usize> {
+        self.culled.iter().find(|&&(l, _)| l == light).map(|&(_, n)| n)
+    }
 }
 
 /// The report of one light's volumes.
@@ -728,8 +953,9 @@ impl DiagnosticReadback {
         Ok(LightDiagnostics {
             light,
             classification: self.classification.read()?,
-            points: self.points.read()?,
+            points: Some(self.points.read()?),
             silhouette_map: Some(SilhouetteMapImage { resolution: self.resolution, points }),
+            stencil: None,
         })
     }
 }

@@ -371,6 +371,52 @@ impl<'a> Recorder<'a> {
     pub fn copy_image_to_buffer(&mut self, image: &'a Image, layer: u32, buffer: &'a Buffer) {
         let aspect = image.desc.aspect();
         let aspect = if aspect.contains(vk::ImageAspectFlags::DEPTH) { vk::ImageAspectFlags::DEPTH } else { aspect };
+        self.copy_aspect_to_buffer(image, aspect, layer, buffer);
+    }
+
+    /// Copies the stencil aspect of a depth/stencil image in [`ImageState::TransferSrc`] into a
+    /// buffer: one byte per texel, tightly packed, row 0 first.
+    pub fn copy_stencil_to_buffer(&mut self, image: &'a Image, buffer: &'a Buffer) {
+        self.copy_aspect_to_buffer(image, vk::ImageAspectFlags::STENCIL, 0, buffer);
+    }
+
+    /// Copies every aspect of `src` (in [`ImageState::TransferSrc`]) into `dst` (in
+    /// [`ImageState::TransferDst`]); both have the same format and size.
+    pub fn copy_image(&mut self, src: &'a Image, dst: &'a Image) {
+        let layers = vk::ImageSubresourceLayers {
+            aspect_mask: src.desc.aspect(),
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: src.desc.layers,
+        };
+        let region = vk::ImageCopy {
+            src_subresource: layers,
+            src_offset: vk::Offset3D::default(),
+            dst_subresource: layers,
+            dst_offset: vk::Offset3D::default(),
+            extent: vk::Extent3D { width: src.desc.width, height: src.desc.height, depth: 1 },
+        };
+        // SAFETY: both alive for 'a, in TRANSFER_SRC/DST_OPTIMAL (caller transitions); equal
+        // formats and extents are the caller's contract, checked by validation.
+        unsafe {
+            self.device().cmd_copy_image(
+                self.cmd,
+                src.raw,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                dst.raw,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &[region],
+            )
+        };
+    }
+
+    fn copy_aspect_to_buffer(
+        &mut self,
+        image: &'a Image,
+        aspect: vk::ImageAspectFlags,
+        layer: u32,
+        buffer: &'a Buffer,
+    ) {
         let region = vk::BufferImageCopy {
             buffer_offset: 0,
             buffer_row_length: 0,

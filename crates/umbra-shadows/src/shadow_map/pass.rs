@@ -14,7 +14,7 @@ use umbra_vk::{
 };
 
 /// Shadow maps are single-channel 32-bit float depth.
-const FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+pub(crate) const FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
 /// One light's shadow map: the image and, for cube maps, a view per face to render into.
 pub(crate) struct ShadowTarget {
@@ -27,6 +27,9 @@ pub(crate) struct ShadowMapPass {
     settings: ShadowMapSettings,
     pipeline: GraphicsPipeline,
     sampler: Sampler,
+    /// LINEAR comparison: hardware 2×2 PCF whatever the filter setting (the hybrid's
+    /// silhouette-pixel test).
+    pcf_sampler: Sampler,
     /// Nearest, no comparison: raw depth and silhouette points.
     raw_sampler: Sampler,
     placeholder_2d: Image,
@@ -71,6 +74,15 @@ impl ShadowMapPass {
                 compare: Some(vk::CompareOp::LESS_OR_EQUAL),
             },
         )?;
+        let pcf_sampler = Sampler::new(
+            ctx,
+            "shadow map sampler (hardware pcf2x2)",
+            SamplerDesc {
+                filter: vk::Filter::LINEAR,
+                address: vk::SamplerAddressMode::CLAMP_TO_EDGE,
+                compare: Some(vk::CompareOp::LESS_OR_EQUAL),
+            },
+        )?;
         let raw_sampler = Sampler::new(
             ctx,
             "shadow map raw sampler",
@@ -86,7 +98,16 @@ impl ShadowMapPass {
         rec.clear_depth_image(&placeholder_cube, 1.0);
         rec.transition(&[(&placeholder_2d, dst, read), (&placeholder_cube, dst, read)]);
         ctx.submit_and_wait(rec)?;
-        Ok(Self { settings, pipeline, sampler, raw_sampler, placeholder_2d, placeholder_cube, targets: Vec::new() })
+        Ok(Self {
+            settings,
+            pipeline,
+            sampler,
+            pcf_sampler,
+            raw_sampler,
+            placeholder_2d,
+            placeholder_cube,
+            targets: Vec::new(),
+        })
     }
 
     /// The settings the pass was built with.
@@ -191,14 +212,17 @@ impl ShadowMapPass {
     }
 
     /// Set 1 for light `light`: its map, or the placeholders (depth 1, never sampled: the
-    /// light's shadow kind is `SHADOW_NONE`) when it has none this frame, and `silhouette`
-    /// (the light's silhouette map or a placeholder).
+    /// light's shadow kind is `SHADOW_NONE`) when it has none this frame, compared through the
+    /// settings' filter or, with `hardware_pcf`, through a LINEAR comparison sampler; and
+    /// `technique_image` at binding 3 (the light's silhouette map, the hybrid's silhouette-pixel
+    /// classes, or a placeholder).
     pub fn descriptor_set(
         &self,
         ctx: &Context,
         layout: &DescriptorSetLayout,
         light: Option<usize>,
-        silhouette: &Image,
+        hardware_pcf: bool,
+        technique_image: &Image,
     ) -> RenderResult<DescriptorSet> {
         let target = light.and_then(|l| self.targets.get(l)).and_then(Option::as_ref);
         let (single, cube) = match target {
@@ -215,10 +239,16 @@ impl ShadowMapPass {
             Some(l) => format!("shadow set light {l}"),
             None => "shadow set (none)".to_owned(),
         };
-        let (compare, raw) = (&self.sampler, &self.raw_sampler);
+        let compare = if hardware_pcf { &self.pcf_sampler } else { &self.sampler };
+        let raw = &self.raw_sampler;
         let resources =
-            [sampled(single, compare), sampled(cube, compare), sampled(single, raw), sampled(silhouette, raw)];
+            [sampled(single, compare), sampled(cube, compare), sampled(single, raw), sampled(technique_image, raw)];
         Ok(DescriptorSet::new(ctx, &name, layout, &resources)?)
+    }
+
+    /// Light `light`'s map (after [`Self::prepare`]).
+    pub fn image(&self, light: usize) -> RenderResult<&Image> {
+        Ok(&self.target(light)?.image)
     }
 
     fn target(&self, light: usize) -> RenderResult<&ShadowTarget> {

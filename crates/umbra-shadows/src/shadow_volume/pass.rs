@@ -12,9 +12,9 @@ use umbra_vk::{
 };
 
 /// Volume vertices are `vec4`: object-space xyz, w = 0 for vertices at infinity.
-const VOLUME_ATTRIBUTES: [VertexAttribute; 1] =
+pub(crate) const VOLUME_ATTRIBUTES: [VertexAttribute; 1] =
     [VertexAttribute { location: 0, format: vk::Format::R32G32B32A32_SFLOAT, offset: 0 }];
-const VOLUME_STRIDE: u32 = 16;
+pub(crate) const VOLUME_STRIDE: u32 = 16;
 
 /// Stencil ops of one face: `op` on `when` (pass or depth-fail), KEEP otherwise.
 fn face(op: vk::StencilOp, on_depth_fail: bool) -> StencilFace {
@@ -23,6 +23,23 @@ fn face(op: vk::StencilOp, on_depth_fail: bool) -> StencilFace {
         depth_fail: if on_depth_fail { op } else { vk::StencilOp::KEEP },
         ..StencilFace::KEEP
     }
+}
+
+/// The z-fail counting pipeline (§2.1): volumes tested against the scene's depth (`clamp`:
+/// depth clamp on), two-sided stencil with wrap ops, no colour, no depth writes.
+pub(crate) fn zfail_desc(depth_format: vk::Format, clamp: bool) -> GraphicsPipelineDesc<'static> {
+    let mut desc = GraphicsPipelineDesc::new("shadow volume z-fail", umbra_shaders::shadow_volume::EXTRUDE_VERT);
+    desc.vertex_stride = VOLUME_STRIDE;
+    desc.vertex_attributes = &VOLUME_ATTRIBUTES;
+    desc.cull = vk::CullModeFlags::NONE;
+    desc.depth_format = depth_format;
+    // Test against the scene's depth, never write it; LESS, so a front cap lying on its
+    // caster's surface fails the test and counts as behind it (z-fail).
+    desc.depth = DepthState { test: true, write: false, compare: vk::CompareOp::LESS, clamp, ..DepthState::NONE };
+    // Two-sided stencil in one draw: z-fail decrements on front faces and increments on
+    // back faces where the depth test fails; *_AND_WRAP because counts interleave.
+    desc.stencil = Some((face(vk::StencilOp::DECREMENT_AND_WRAP, true), face(vk::StencilOp::INCREMENT_AND_WRAP, true)));
+    desc
 }
 
 /// What every volume draw binds: the shared layout, the scene set and the volume vertices.
@@ -34,13 +51,14 @@ pub(crate) struct VolumeBindings<'a> {
 }
 
 impl<'a> VolumeBindings<'a> {
-    fn bind(&self, rec: &mut Recorder<'a>) {
+    /// Binds the scene set and the volume vertices.
+    pub fn bind(&self, rec: &mut Recorder<'a>) {
         rec.bind_descriptor_set(self.layout, 0, &self.gpu.set);
         rec.bind_vertex_buffer(self.vertices);
     }
 
     /// One draw per caster, with the bound pipeline.
-    fn draw<'c>(
+    pub fn draw<'c>(
         &self,
         rec: &mut Recorder<'a>,
         casters: impl IntoIterator<Item = &'c CasterVolume>,
@@ -71,18 +89,7 @@ impl ShadowVolumePass {
         settings: &ShadowVolumeSettings,
     ) -> RenderResult<Self> {
         let clamp = settings.far_plane == FarPlane::DepthClamp;
-        let mut desc = GraphicsPipelineDesc::new("shadow volume z-fail", umbra_shaders::shadow_volume::EXTRUDE_VERT);
-        desc.vertex_stride = VOLUME_STRIDE;
-        desc.vertex_attributes = &VOLUME_ATTRIBUTES;
-        desc.cull = vk::CullModeFlags::NONE;
-        desc.depth_format = depth_format;
-        // Test against the scene's depth, never write it; LESS, so a front cap lying on its
-        // caster's surface fails the test and counts as behind it (z-fail).
-        desc.depth = DepthState { test: true, write: false, compare: vk::CompareOp::LESS, clamp, ..DepthState::NONE };
-        // Two-sided stencil in one draw: z-fail decrements on front faces and increments on
-        // back faces where the depth test fails; *_AND_WRAP because counts interleave.
-        desc.stencil =
-            Some((face(vk::StencilOp::DECREMENT_AND_WRAP, true), face(vk::StencilOp::INCREMENT_AND_WRAP, true)));
+        let mut desc = zfail_desc(depth_format, clamp);
         let zfail = GraphicsPipeline::new(ctx, layout, &desc)?;
         desc.name = "shadow volume z-pass";
         // z-pass: front faces increment, back faces decrement where the depth test passes.
@@ -124,6 +131,11 @@ impl ShadowVolumePass {
             rec.set_stencil_reference(0);
             b.draw(rec, casters, light, log);
         }
+    }
+
+    /// The z-fail counting pipeline, unmasked.
+    pub fn zfail(&self) -> &GraphicsPipeline {
+        &self.zfail
     }
 
     /// Records the overdraw image's draws for light `light` (inside a rendering pass over the

@@ -1,0 +1,25 @@
+//! The hybrid of Chan and Durand (2004): a shadow map finds the pixels near shadow edges, and
+//! z-fail shadow volumes run only there, masked by the depth-bounds test used as a computation
+//! mask. Shadow-volume accuracy at close to shadow-map cost.
+//!
+//! Per light, top to bottom (`pass.rs`):
+//! 1. a shadow map (the shadow-map module's pass), by default below the image's resolution;
+//!    blocker culling (§6.3, `cull.rs`) may then drop casters no map texel sees;
+//! 2. `hybrid classify`: over the frame's depth, one hardware 2×2 PCF fetch per pixel; a result
+//!    strictly between 0 and 1 on a surface facing the light marks a *silhouette pixel*
+//!    (Fig. 4); every other pixel is shaded from the map right there;
+//! 3. `computation mask` (§4): with `depth-bounds`, the frame's depth is copied and a
+//!    full-screen pass writes depth 0 at every non-silhouette pixel; with `stencil`, it sets the
+//!    stencil's high bit at silhouette pixels instead;
+//! 4. `hybrid volumes`: the shadow-volume module's z-fail volumes, two-sided with wrap ops,
+//!    depth-bounds test on `[DEPTH_BOUNDS_EPSILON, 1]` (or the stencil bit), so masked pixels
+//!    discard volume fragments before any stencil update;
+//! 5. `light N silhouettes`: silhouette pixels lit where their count is zero.
+
+pub(crate) mod cull;
+pub(crate) mod pass;
+mod settings;
+#[cfg(test)]
+mod stencil_bits;
+
+pub use settings::{HybridSettings, MaskKind, COUNT_BITS, DEPTH_BOUNDS_EPSILON, SILHOUETTE_BIT};
