@@ -68,10 +68,7 @@ fn main() -> anyhow::Result<()> {
     common::init_logging();
     let args = Args::parse();
     let ctx = umbra::vk::Context::new()?;
-    let mut scene = umbra::scene::load(&args.common.scene)?;
-    for light in &mut scene.lights {
-        light.technique = Technique::Hybrid;
-    }
+    let scene = args.common.scene_with(Technique::Hybrid)?;
     let (width, height) = args.common.size;
     let mut desc = RendererDesc::new(width, height);
     desc.hybrid = HybridSettings { resolution: args.sm_size, mask: args.mask, cull_blockers: args.cull_blockers };

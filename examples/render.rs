@@ -34,12 +34,10 @@ fn main() -> anyhow::Result<()> {
     common::init_logging();
     let args = Args::parse();
     let ctx = umbra::vk::Context::new()?;
-    let mut scene = umbra::scene::load(&args.common.scene)?;
-    if let Some(t) = args.technique {
-        for light in &mut scene.lights {
-            light.technique = t;
-        }
-    }
+    let scene = match args.technique {
+        Some(t) => args.common.scene_with(t)?,
+        None => umbra::scene::load(&args.common.scene)?,
+    };
     let (width, height) = args.common.size;
     let mut renderer = Renderer::new(&ctx, RendererDesc::new(width, height))?;
     let frame = common::render_warm(&mut renderer, &scene, &args.common)?;

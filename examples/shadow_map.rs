@@ -44,10 +44,7 @@ fn main() -> anyhow::Result<()> {
     common::init_logging();
     let args = Args::parse();
     let ctx = umbra::vk::Context::new()?;
-    let mut scene = umbra::scene::load(&args.common.scene)?;
-    for light in &mut scene.lights {
-        light.technique = Technique::ShadowMap;
-    }
+    let scene = args.common.scene_with(Technique::ShadowMap)?;
     let (width, height) = args.common.size;
     let mut desc = RendererDesc::new(width, height);
     desc.shadow_map = ShadowMapSettings {

@@ -37,7 +37,7 @@ fn main() -> anyhow::Result<()> {
     common::init_logging();
     let args = Args::parse();
     let ctx = umbra::vk::Context::new()?;
-    let mut scene = umbra::scene::load(&args.common.scene)?;
+    let mut scene = args.common.scene_with(Technique::ShadowVolume)?;
     if let Some(first) = scene.lights.first().cloned() {
         let n = args.lights.max(1);
         let centre = scene.bounds().center();
@@ -56,9 +56,6 @@ fn main() -> anyhow::Result<()> {
                 l
             })
             .collect();
-    }
-    for light in &mut scene.lights {
-        light.technique = Technique::ShadowVolume;
     }
     let (width, height) = args.common.size;
     let mut desc = RendererDesc::new(width, height);

@@ -69,12 +69,9 @@ fn main() -> anyhow::Result<()> {
     common::init_logging();
     let args = Args::parse();
     let ctx = umbra::vk::Context::new()?;
-    let mut scene = umbra::scene::load(&args.common.scene)?;
+    let mut scene = args.common.scene_with(Technique::SilhouetteMap)?;
     for i in scene.point_lights_to_spots(MAX_CONE_DEG) {
         println!("light {i}: point light made a spot aimed at the scene centre (silhouette maps need a 2D map)");
-    }
-    for light in &mut scene.lights {
-        light.technique = Technique::SilhouetteMap;
     }
     let (width, height) = args.common.size;
     let mut desc = RendererDesc::new(width, height);

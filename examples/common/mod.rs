@@ -21,6 +21,17 @@ pub struct CommonArgs {
     pub warmup: u32,
 }
 
+impl CommonArgs {
+    /// Loads `--scene` with every light's shadows set to `technique`.
+    pub fn scene_with(&self, technique: umbra::scene::Technique) -> anyhow::Result<umbra::scene::Scene> {
+        let mut scene = umbra::scene::load(&self.scene)?;
+        for light in &mut scene.lights {
+            light.technique = technique;
+        }
+        Ok(scene)
+    }
+}
+
 /// Renders `args.warmup` discarded frames, then the frame that is reported.
 pub fn render_warm(
     renderer: &mut umbra::shadows::Renderer,

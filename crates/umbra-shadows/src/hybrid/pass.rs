@@ -56,6 +56,22 @@ fn test_only(compare: vk::CompareOp, compare_mask: u32) -> StencilFace {
     StencilFace { compare, compare_mask, write_mask: 0, ..StencilFace::KEEP }
 }
 
+/// `desc` with the depth-bounds test on, named `name`, where the device has `depthBounds`.
+fn with_depth_bounds<'d>(
+    ctx: &Context,
+    layout: &PipelineLayout,
+    mut desc: GraphicsPipelineDesc<'d>,
+    name: &'d str,
+    depth_bounds: bool,
+) -> RenderResult<Option<GraphicsPipeline>> {
+    if !depth_bounds {
+        return Ok(None);
+    }
+    desc.name = name;
+    desc.depth.bounds_test = true;
+    Ok(Some(GraphicsPipeline::new(ctx, layout, &desc)?))
+}
+
 impl HybridPass {
     /// Builds every pipeline against the renderer's `layout`; `clamp` mirrors the volumes'
     /// `FarPlane::DepthClamp`.
@@ -106,15 +122,8 @@ impl HybridPass {
 
         // Step 3: z-fail volumes, masked.
         let mut desc = volume_pass::zfail_desc(depth_format, clamp);
-        let volumes_depth_bounds = if caps.depth_bounds {
-            desc.name = "hybrid volumes (depth-bounds mask)";
-            desc.depth.bounds_test = true;
-            let p = GraphicsPipeline::new(ctx, layout, &desc)?;
-            desc.depth.bounds_test = false;
-            Some(p)
-        } else {
-            None
-        };
+        let volumes_depth_bounds =
+            with_depth_bounds(ctx, layout, desc, "hybrid volumes (depth-bounds mask)", caps.depth_bounds)?;
         desc.name = "hybrid volumes (stencil mask)";
         // Only where the silhouette bit is set; count in the low bits (settings::COUNT_BITS).
         desc.stencil = desc.stencil.map(|(front, back)| {
@@ -132,15 +141,8 @@ impl HybridPass {
         // is on but ALWAYS passes: SwiftShader skips the depth-bounds test while it is off.
         desc.depth = DepthState { test: true, compare: vk::CompareOp::ALWAYS, clamp, ..DepthState::NONE };
         desc.stencil = None;
-        let fragments_depth_bounds = if caps.depth_bounds {
-            desc.name = "hybrid volume fragments (depth-bounds mask)";
-            desc.depth.bounds_test = true;
-            let p = GraphicsPipeline::new(ctx, layout, &desc)?;
-            desc.depth.bounds_test = false;
-            Some(p)
-        } else {
-            None
-        };
+        let fragments_depth_bounds =
+            with_depth_bounds(ctx, layout, desc, "hybrid volume fragments (depth-bounds mask)", caps.depth_bounds)?;
         desc.name = "hybrid volume fragments (stencil mask)";
         let bit = test_only(vk::CompareOp::EQUAL, SILHOUETTE_BIT);
         desc.stencil = Some((bit, bit));
