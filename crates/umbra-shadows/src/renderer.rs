@@ -360,12 +360,7 @@ impl Renderer {
             shadow_views.extend_from_slice(&views.views);
             fitted[plan.light] = Some(views);
         }
-        let edge_buffer = if edge_instances.is_empty() {
-            None
-        } else {
-            let bytes: &[u8] = bytemuck::cast_slice(&edge_instances);
-            Some(Buffer::with_data(&self.ctx, "silhouette edges", vk::BufferUsageFlags::VERTEX_BUFFER, bytes)?)
-        };
+        let edge_buffer = vertex_buffer(&self.ctx, "silhouette edges", &edge_instances)?;
         // Shadow volumes: every caster's volume per light, built on the CPU (z-fail only for
         // hybrid lights, Chan–Durand §3 step 3; none for a hybrid light without a map).
         let mut built: Vec<Option<LightVolumes>> = vec![None; scene.lights.len()];
@@ -388,12 +383,7 @@ impl Renderer {
             );
             built[plan.light] = Some(v);
         }
-        let volume_buffer = if volume_vertices.is_empty() {
-            None
-        } else {
-            let bytes: &[u8] = bytemuck::cast_slice(&volume_vertices);
-            Some(Buffer::with_data(&self.ctx, "shadow volume vertices", vk::BufferUsageFlags::VERTEX_BUFFER, bytes)?)
-        };
+        let volume_buffer = vertex_buffer(&self.ctx, "shadow volume vertices", &volume_vertices)?;
         // Hybrid lights: their queries (mask samples, masked volume fragments) and, with
         // blocker culling, one box per caster of a 2D map.
         let hybrids: Vec<usize> =
@@ -417,12 +407,7 @@ impl Renderer {
                 }
             }
         }
-        let culling_buffer = if culling.boxes.is_empty() {
-            None
-        } else {
-            let bytes: &[u8] = bytemuck::cast_slice(&culling.vertices);
-            Some(Buffer::with_data(&self.ctx, "blocker boxes", vk::BufferUsageFlags::VERTEX_BUFFER, bytes)?)
-        };
+        let culling_buffer = vertex_buffer(&self.ctx, "blocker boxes", &culling.vertices)?;
         let culling_queries = match culling.boxes.len() as u32 {
             0 => None,
             n => Some(QueryPool::new(&self.ctx, "blocker culling", QueryKind::Occlusion, n)?),
@@ -853,6 +838,14 @@ impl Renderer {
             }
         }
     }
+}
+
+/// A vertex buffer holding `data`, or `None` when there is nothing to draw.
+fn vertex_buffer<T: bytemuck::Pod>(ctx: &Context, name: &str, data: &[T]) -> RenderResult<Option<Buffer>> {
+    if data.is_empty() {
+        return Ok(None);
+    }
+    Ok(Some(Buffer::with_data(ctx, name, vk::BufferUsageFlags::VERTEX_BUFFER, bytemuck::cast_slice(data))?))
 }
 
 /// A frame-sized RGBA8 image rendered to and copied out (colour, overdraw, diagnostic views).
