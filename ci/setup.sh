@@ -15,7 +15,7 @@ SWS_ICD="$SWS_DIR/vk_swiftshader_icd.json"
 
 need_pkgs=()
 for p in libvulkan1 libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools \
-         spirv-tools cmake g++ python3 brotli pkg-config; do
+         spirv-tools cmake g++ python3 brotli pkg-config fonts-dejavu-core; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || need_pkgs+=("$p")
 done
 # npm may come from Node's own distribution rather than Debian's: only install it when absent.

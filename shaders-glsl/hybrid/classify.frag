@@ -32,7 +32,7 @@ void main() {
         return;
     }
     if (lambert <= 0.0) {
-        out_class = CLASS_MAP_SHADOWED; // back-facing: always shadowed (Fig. 4's diffuse > 0)
+        out_class = CLASS_UNREACHED; // back-facing: never lit, never a silhouette (Fig. 4's diffuse > 0)
         return;
     }
     float v = shadow_visibility(l, world_position, n);

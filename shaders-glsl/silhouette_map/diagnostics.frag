@@ -1,8 +1,8 @@
 #version 460
 // Diagnostic views of one silhouette-map light, drawn over the frame's depth (EQUAL):
 // location 0, the per-pixel classification (debug/classes.glsl): decided by the four depth
-// comparisons, or reconstructed from the silhouette points; surfaces facing away from the light
-// are shadowed without a lookup. Location 1, a mask of the silhouette points as seen from the
+// comparisons, or reconstructed from the silhouette points; surfaces the light does not reach
+// are classed so without a lookup. Location 1, a mask of the silhouette points as seen from the
 // camera (Sen et al. Fig. 9, middle): red where the pixel's map position lies within
 // POINT_RADIUS texels of a stored (non-default) point.
 #include "common/scene.glsl"
@@ -31,7 +31,7 @@ void main() {
         return;
     }
     if (lambert_attenuated(l, world_position, n) <= 0.0) {
-        out_class = CLASS_MAP_SHADOWED;
+        out_class = CLASS_UNREACHED;
         return;
     }
     bool reconstructed;

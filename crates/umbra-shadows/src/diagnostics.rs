@@ -3,8 +3,13 @@
 //! Fig. 6b colours, `shaders-glsl/debug/classes.glsl`); for silhouette maps, a mask of the
 //! silhouette points as the camera sees them (Sen et al. Fig. 9, middle) and the map itself;
 //! for the hybrid, the stencil after its volumes and the fill image (Chan–Durand Fig. 10).
+//! Shadow-map and shadow-volume lights get the classification alone (`light diagnostics N`,
+//! `forward/light.frag` with OUTPUT_CLASSES; a shadow-volume light's classes come from its
+//! stencil). [`LightDiagnostics::shadow_mask`] turns any of them into the light's shadow mask,
+//! the technique's side of a comparison with the exact reference.
 
-use umbra_vk::Image;
+use crate::RenderResult;
+use umbra_vk::{Buffer, BufferDesc, Context, Image};
 
 /// How the lighting decided one pixel, decoded from the classification image.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -19,6 +24,9 @@ pub enum PixelClass {
     SilhouetteLit,
     /// A surface that does not receive shadows (light grey).
     NotReceiver,
+    /// A receiver the light does not reach: facing away from it, or outside a spot's cone
+    /// (dark grey).
+    Unreached,
     /// No geometry (the clear colour, mid grey).
     Background,
 }
@@ -32,6 +40,7 @@ impl PixelClass {
             [0, 0, 0] => Self::SilhouetteShadowed,
             [0, 255, 0] => Self::SilhouetteLit,
             [191, 191, 191] => Self::NotReceiver,
+            [64, 64, 64] => Self::Unreached,
             _ => Self::Background,
         }
     }
@@ -39,6 +48,16 @@ impl PixelClass {
     /// Whether the accurate technique decided the pixel.
     pub fn is_silhouette(self) -> bool {
         matches!(self, Self::SilhouetteShadowed | Self::SilhouetteLit)
+    }
+
+    /// The light's shadow here: `Some(true)` shadowed, `Some(false)` lit, `None` where it is
+    /// not in question (background, non-receivers, surfaces the light does not reach).
+    pub fn shadowed(self) -> Option<bool> {
+        match self {
+            Self::MapShadowed | Self::SilhouetteShadowed => Some(true),
+            Self::MapLit | Self::SilhouetteLit => Some(false),
+            Self::NotReceiver | Self::Unreached | Self::Background => None,
+        }
     }
 }
 
@@ -84,6 +103,11 @@ pub struct LightDiagnostics {
 }
 
 impl LightDiagnostics {
+    /// The light's shadow mask, per pixel as [`PixelClass::shadowed`] (row 0 at the top).
+    pub fn shadow_mask(&self) -> Vec<Option<bool>> {
+        self.classification.chunks_exact(4).map(|p| PixelClass::decode([p[0], p[1], p[2], p[3]]).shadowed()).collect()
+    }
+
     /// Pixels the silhouette decided (green or black).
     pub fn silhouette_pixels(&self) -> u64 {
         self.classification
@@ -131,4 +155,57 @@ impl LightDiagnostics {
 pub(crate) struct DiagnosticTargets {
     pub classification: Image,
     pub points: Image,
+}
+
+/// Host-visible copies of one light's classes and, where a stencil count decides some of its
+/// pixels (shadow volumes, the hybrid), the stencil.
+pub(crate) struct ClassReadback {
+    pub classes: Buffer,
+    pub stencil: Option<Buffer>,
+}
+
+impl ClassReadback {
+    pub fn new(ctx: &Context, width: u32, height: u32, stencil: bool) -> RenderResult<Self> {
+        let pixels = u64::from(width) * u64::from(height);
+        Ok(Self {
+            classes: Buffer::new(ctx, "diagnostics readback: classes", BufferDesc::readback(4 * pixels))?,
+            stencil: match stencil {
+                true => Some(Buffer::new(ctx, "diagnostics readback: stencil", BufferDesc::readback(pixels))?),
+                false => None,
+            },
+        })
+    }
+
+    /// The light's diagnostics. Pixels nothing was drawn to (still the clear value, transparent
+    /// black; the hybrid's additive classes never write alpha) are background. With `stencil_decides = Some((class, count_bits))`, pixels of `class` are
+    /// the stencil's to decide: black where `stencil & count_bits` is non-zero, green where it
+    /// is zero.
+    pub fn read(&self, light: usize, stencil_decides: Option<(PixelClass, u8)>) -> RenderResult<LightDiagnostics> {
+        let mut classification = self.classes.read()?;
+        let stencil = self.stencil.as_ref().map(Buffer::read).transpose()?;
+        let background = BACKGROUND.map(|c| (c * 255.0).round() as u8);
+        for (i, p) in classification.chunks_exact_mut(4).enumerate() {
+            if p == [0, 0, 0, 0] {
+                p.copy_from_slice(&background);
+                continue;
+            }
+            p[3] = 255;
+            let (Some((class, bits)), Some(s)) = (stencil_decides, &stencil) else { continue };
+            if PixelClass::decode([p[0], p[1], p[2], p[3]]) == class {
+                let shadowed = s[i] & bits != 0;
+                p[..3].copy_from_slice(if shadowed { &[0, 0, 0] } else { &[0, 255, 0] });
+            }
+        }
+        Ok(LightDiagnostics { light, classification, points: None, silhouette_map: None, stencil })
+    }
+}
+
+/// What the raster pass saw at every pixel (with `RendererDesc::gbuffer`), row 0 at the top:
+/// the input of the exact reference (`umbra_reference::SurfaceImage::from_gbuffer`).
+#[derive(Clone, Debug)]
+pub struct GBuffer {
+    /// World position; w = object index + 1, or 0 where no surface covers the pixel.
+    pub position: Vec<[f32; 4]>,
+    /// Unit geometric normal turned towards the camera (zero for a triangle seen edge-on); w = 0.
+    pub normal: Vec<[f32; 4]>,
 }

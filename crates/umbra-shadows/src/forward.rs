@@ -22,6 +22,8 @@ pub(crate) struct Forward {
     light: GraphicsPipeline,
     /// The light pass of shadow-volume lights: lit only where the stencil count is 0.
     light_stenciled: GraphicsPipeline,
+    /// The light pass writing each pixel's class instead of light (with diagnostics).
+    classes: Option<GraphicsPipeline>,
 }
 
 impl Forward {
@@ -32,6 +34,7 @@ impl Forward {
         color_format: vk::Format,
         depth_format: vk::Format,
         shadow: &ShadowMapSettings,
+        diagnostics: bool,
     ) -> RenderResult<Self> {
         let ambient_frag = umbra_shaders::forward::AMBIENT_FRAG;
         let mut desc = surface_pass_desc("forward ambient + depth", ambient_frag, depth_format, &[]);
@@ -51,7 +54,21 @@ impl Forward {
         let zero = StencilFace { compare: vk::CompareOp::EQUAL, write_mask: 0, ..StencilFace::KEEP };
         desc.stencil = Some((zero, zero));
         let light_stenciled = GraphicsPipeline::new(ctx, layout, &desc)?;
-        Ok(Self { ambient, light, light_stenciled })
+        let classes = if diagnostics {
+            let [filter, outside] = spec;
+            let spec = [filter, outside, (2, 1)];
+            let mut desc = surface_pass_desc(
+                "light diagnostics (classes)",
+                umbra_shaders::forward::LIGHT_FRAG,
+                depth_format,
+                &spec,
+            );
+            desc.color_targets = &opaque;
+            Some(GraphicsPipeline::new(ctx, layout, &desc)?)
+        } else {
+            None
+        };
+        Ok(Self { ambient, light, light_stenciled, classes })
     }
 
     /// Draws every object with the ambient pipeline (inside an open rendering pass).
@@ -87,6 +104,26 @@ impl Forward {
         } else {
             rec.bind_pipeline(&self.light);
         }
+        rec.bind_descriptor_set(layout, 1, shadow_set);
+        draw_objects(rec, layout, gpu, scene, light, log);
+    }
+
+    /// Draws every object's class under light `light` (inside an open rendering pass with one
+    /// RGBA8 target): the decisions `record_light` shades with, written as colours.
+    /// Nothing is drawn when the pipelines were built without diagnostics.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_classes<'a>(
+        &'a self,
+        rec: &mut Recorder<'a>,
+        layout: &'a PipelineLayout,
+        gpu: &'a GpuScene,
+        shadow_set: &'a DescriptorSet,
+        scene: &Scene,
+        light: u32,
+        log: &mut PassLog,
+    ) {
+        let Some(classes) = &self.classes else { return };
+        rec.bind_pipeline(classes);
         rec.bind_descriptor_set(layout, 1, shadow_set);
         draw_objects(rec, layout, gpu, scene, light, log);
     }

@@ -14,6 +14,7 @@
 pub mod diagnostics;
 mod error;
 mod forward;
+mod gbuffer;
 mod gpu_scene;
 pub mod hybrid;
 pub mod plan;
@@ -24,7 +25,7 @@ pub mod shadow_volume;
 pub mod silhouette_map;
 mod timing;
 
-pub use diagnostics::{LightDiagnostics, PixelClass, SilhouetteMapImage};
+pub use diagnostics::{GBuffer, LightDiagnostics, PixelClass, SilhouetteMapImage};
 pub use error::{RenderError, RenderResult};
 pub use hybrid::{HybridSettings, MaskKind};
 pub use plan::{CasterMode, HybridReport, LightPlan, ShadowMapReport, ShadowVolumeReport, SilhouetteMapReport};

@@ -10,16 +10,20 @@
 //!    counts), then `light N (kind)`, its additive lighting with the shadow test (map or
 //!    silhouette-map lookup, or stencil == 0). Diagnostic passes follow when asked for:
 //!    `volume overdraw N` (volumes into the overdraw image), `silhouette diagnostics N` (the
-//!    classification and silhouette-point views);
+//!    classification and silhouette-point views), `light diagnostics N` (the classification of
+//!    shadow-map and shadow-volume lights), `hybrid diagnostics N`; and after `ambient`, with
+//!    `gbuffer`, the `g-buffer` pass (positions and normals for the exact reference);
 //! 5. `readback`: copy the colour target into a host-visible buffer.
 //!
 //! Every pass is a debug label with timestamps around it; the [`FrameReport`] lists them.
 
-use crate::diagnostics::{self, DiagnosticTargets, LightDiagnostics, SilhouetteMapImage};
+use crate::diagnostics::SilhouetteMapImage;
+use crate::diagnostics::{self, ClassReadback, DiagnosticTargets, GBuffer, LightDiagnostics, PixelClass};
 use crate::forward::Forward;
+use crate::gbuffer::GBufferPass;
 use crate::gpu_scene::{self, GpuScene, GpuShadow};
 use crate::hybrid::cull;
-use crate::hybrid::pass::{HybridLight, HybridPass, HybridReadback};
+use crate::hybrid::pass::{HybridLight, HybridPass};
 use crate::hybrid::{HybridSettings, MaskKind, DEPTH_BOUNDS_EPSILON};
 use crate::plan::{plan_lights, HybridReport, LightPlan, ShadowMapReport};
 use crate::plan::{CasterMode, ShadowVolumeReport, SilhouetteMapReport, SILHOUETTE_CUBE_UNSUPPORTED};
@@ -62,10 +66,15 @@ pub struct RendererDesc {
     pub shadow_volume: ShadowVolumeSettings,
     /// Settings of lights whose technique is `hybrid`.
     pub hybrid: HybridSettings,
-    /// Render the diagnostic views of every silhouette-map light ([`Frame::diagnostics`]) and
-    /// count its silhouette pixels: one more pass and readback per such light, reported as a
+    /// Render the diagnostic views of every light ([`Frame::diagnostics`]: its per-pixel
+    /// classification, hence its shadow mask; silhouette points and map for silhouette-map
+    /// lights, the stencil for hybrid and shadow-volume lights) and count silhouette-map
+    /// lights' silhouette pixels: one more pass and readback per light, reported as a
     /// diagnostic pass. Off by default.
     pub diagnostics: bool,
+    /// Render the G-buffer ([`Frame::gbuffer`]): world position and geometric normal per
+    /// pixel, for the exact reference. One diagnostic pass. Off by default.
+    pub gbuffer: bool,
 }
 
 impl RendererDesc {
@@ -78,6 +87,7 @@ impl RendererDesc {
             shadow_volume: ShadowVolumeSettings::default(),
             hybrid: HybridSettings::default(),
             diagnostics: false,
+            gbuffer: false,
         }
     }
 }
@@ -96,8 +106,11 @@ pub struct Frame {
     /// Volume overdraw (RGBA8, red = volume fragments per pixel, saturating at 255), when the
     /// renderer was built with `shadow_volume.overdraw` and a light used shadow volumes.
     pub overdraw: Option<Vec<u8>>,
-    /// Per silhouette-map light, its diagnostic views (with `RendererDesc::diagnostics`).
+    /// Per recorded light, its diagnostic views (with `RendererDesc::diagnostics`), in light
+    /// order.
     pub diagnostics: Vec<LightDiagnostics>,
+    /// What every pixel shows (with `RendererDesc::gbuffer`).
+    pub gbuffer: Option<GBuffer>,
 }
 
 impl Frame {
@@ -148,6 +161,8 @@ pub struct Renderer {
     adjacency: Vec<(MeshKey, Arc<Adjacency>)>,
     /// Volume overdraw target and its readback (with `shadow_volume.overdraw`).
     overdraw: Option<(Image, Buffer)>,
+    /// The G-buffer pass (with `gbuffer`).
+    gbuffer: Option<GBufferPass>,
 }
 
 /// What identifies a mesh's geometry cheaply enough to check every frame.
@@ -200,7 +215,7 @@ impl Renderer {
         let shadow_set_layout = pass::shadow_set_layout(ctx)?;
         let push = std::mem::size_of::<gpu_scene::DrawPush>() as u32;
         let layout = PipelineLayout::new(ctx, "scene layout", &[&scene_set_layout, &shadow_set_layout], push)?;
-        let forward = Forward::new(ctx, &layout, COLOR_FORMAT, depth_format, &desc.shadow_map)?;
+        let forward = Forward::new(ctx, &layout, COLOR_FORMAT, depth_format, &desc.shadow_map, desc.diagnostics)?;
         let shadow_map = ShadowMapPass::new(ctx, &layout, desc.shadow_map)?;
         if desc.shadow_volume.far_plane == FarPlane::DepthClamp && !caps.depth_clamp {
             return Err(ctx.unsupported("shadow volumes with FarPlane::DepthClamp (depthClamp)").into());
@@ -232,6 +247,10 @@ impl Renderer {
         } else {
             None
         };
+        let gbuffer = match desc.gbuffer {
+            true => Some(GBufferPass::new(ctx, &layout, depth_format, desc.width, desc.height)?),
+            false => None,
+        };
         Ok(Self {
             ctx: ctx.clone(),
             desc,
@@ -250,6 +269,7 @@ impl Renderer {
             diagnostic_targets,
             adjacency: Vec::new(),
             overdraw,
+            gbuffer,
         })
     }
 
@@ -470,7 +490,20 @@ impl Renderer {
         let hybrid_readbacks = match self.desc.diagnostics {
             true => hybrids
                 .iter()
-                .map(|_| HybridReadback::new(&self.ctx, self.desc.width, self.desc.height))
+                .map(|_| ClassReadback::new(&self.ctx, self.desc.width, self.desc.height, true))
+                .collect::<RenderResult<Vec<_>>>()?,
+            false => Vec::new(),
+        };
+        // Shadow-map and shadow-volume lights: the classification alone (and the stencil that
+        // decides a shadow-volume light's pixels).
+        let classified: Vec<(usize, ClassReadback)> = match self.desc.diagnostics {
+            true => lights
+                .iter()
+                .filter(|l| uses(l, Technique::ShadowMap) || uses(l, Technique::ShadowVolume))
+                .map(|l| {
+                    let stencil = built[l.light].is_some();
+                    Ok((l.light, ClassReadback::new(&self.ctx, self.desc.width, self.desc.height, stencil)?))
+                })
                 .collect::<RenderResult<Vec<_>>>()?,
             false => Vec::new(),
         };
@@ -486,6 +519,8 @@ impl Renderer {
             + diagnosed.len()
             + 2 * built.iter().flatten().count()
             + 7 * hybrids.len()
+            + classified.len()
+            + usize::from(self.gbuffer.is_some())
             + usize::from(culling_queries.is_some());
         let volume_lights = built.iter().flatten().count() as u32;
         let fragment_queries = match (&self.overdraw, volume_lights) {
@@ -594,6 +629,9 @@ impl Renderer {
         self.forward.record_ambient(&mut rec, &self.layout, &gpu, scene, &mut log);
         rec.end_rendering();
         timer.end(&mut rec, &log);
+        if let Some(g) = &self.gbuffer {
+            g.record(&mut rec, &timer, &mut log, &self.layout, &gpu, scene, &self.depth);
+        }
 
         let load_color = [ColorAttachment { image: &self.color, clear: None }];
         let keep_depth = |clear_stencil| DepthAttachment {
@@ -605,6 +643,8 @@ impl Renderer {
         };
         let mut overdraw_query = 0;
         let mut diagnosed_so_far = 0;
+        // Whether the classification target was used this frame (it is then in TransferSrc).
+        let mut classification_used = false;
         for (plan, shadow_set) in lights.iter().filter(|l| l.recorded).zip(&shadow_sets) {
             let volumes = built[plan.light].as_ref().zip(volume_buffer.as_ref());
             if let Some(h) = hybrids.iter().position(|&l| l == plan.light) {
@@ -664,8 +704,35 @@ impl Renderer {
                 rec.end_rendering();
                 timer.end(&mut rec, &log);
             }
+            let readback = classified.iter().find(|(l, _)| *l == plan.light).map(|(_, r)| r);
+            if let (Some(targets), Some(out)) = (&self.diagnostic_targets, readback) {
+                timer.begin_diagnostic(
+                    &mut rec,
+                    &mut log,
+                    format!("light diagnostics {}", plan.light),
+                    Some(plan.light),
+                );
+                let class = &targets.classification;
+                let was = if classification_used { ImageState::TransferSrc } else { ImageState::Undefined };
+                rec.transition(&[(class, was, ImageState::ColorAttachment)]);
+                let color = [ColorAttachment { image: class, clear: Some([0.0; 4]) }];
+                rec.begin_rendering(&RenderTargets { color: &color, depth: Some(keep_depth(None)) });
+                let light = plan.light as u32;
+                self.forward.record_classes(&mut rec, &self.layout, &gpu, shadow_set, scene, light, &mut log);
+                rec.end_rendering();
+                rec.transition(&[(class, ImageState::ColorAttachment, ImageState::TransferSrc)]);
+                rec.copy_image_to_buffer(class, 0, &out.classes);
+                if let Some(stencil) = &out.stencil {
+                    let attachment = ImageState::DepthStencilAttachment;
+                    rec.transition(&[(&self.depth, attachment, ImageState::TransferSrc)]);
+                    rec.copy_stencil_to_buffer(&self.depth, stencil);
+                    rec.transition(&[(&self.depth, ImageState::TransferSrc, attachment)]);
+                }
+                timer.end(&mut rec, &log);
+                classification_used = true;
+            }
             if let (Some((v, buffer)), Some((image, _)), Some(q)) = (volumes, &self.overdraw, &fragment_queries) {
-                timer.begin_diagnostic(&mut rec, &mut log, format!("volume overdraw {}", plan.light), plan.light);
+                timer.begin_diagnostic(&mut rec, &mut log, format!("volume overdraw {}", plan.light), Some(plan.light));
                 if overdraw_query == 0 {
                     rec.transition(&[(image, ImageState::Undefined, ImageState::ColorAttachment)]);
                 }
@@ -689,9 +756,9 @@ impl Renderer {
                     &mut rec,
                     &mut log,
                     format!("silhouette diagnostics {}", plan.light),
-                    plan.light,
+                    Some(plan.light),
                 );
-                let was = if diagnosed_so_far == 0 { ImageState::Undefined } else { ImageState::TransferSrc };
+                let was = if classification_used { ImageState::TransferSrc } else { ImageState::Undefined };
                 let (class, points) = (&targets.classification, &targets.points);
                 rec.transition(&[
                     (class, was, ImageState::ColorAttachment),
@@ -724,6 +791,7 @@ impl Renderer {
                 rec.copy_image_to_buffer(silmap, 0, &out.silhouette_map);
                 timer.end(&mut rec, &log);
                 diagnosed_so_far += 1;
+                classification_used = true;
             }
         }
         if let (Some((image, readback)), true) = (&self.overdraw, overdraw_query > 0) {
@@ -793,9 +861,15 @@ impl Renderer {
                 });
             }
             for (&l, out) in hybrids.iter().zip(&hybrid_readbacks) {
-                diagnostics.push(out.read(l, self.mask)?);
+                diagnostics.push(out.read(l, Some((PixelClass::SilhouetteLit, self.mask.count_bits())))?);
             }
         }
+        for (l, out) in &classified {
+            // A shadow-volume light's shader saw no shadow: its stencil decides every lit pixel.
+            diagnostics.push(out.read(*l, out.stencil.as_ref().map(|_| (PixelClass::MapLit, 0xff)))?);
+        }
+        diagnostics.sort_by_key(|d| d.light);
+        let gbuffer = self.gbuffer.as_ref().map(GBufferPass::read).transpose()?;
         let caps = self.ctx.capabilities();
         let sum = |diagnostic: bool| {
             passes.iter().filter(|p| p.diagnostic == diagnostic).map(|p| p.gpu_ms).sum::<Option<f64>>()
@@ -815,7 +889,7 @@ impl Renderer {
             passes,
             cpu_frame_ms: started.elapsed().as_secs_f64() * 1e3,
         };
-        Ok(Frame { width: self.desc.width, height: self.desc.height, rgba, report, overdraw, diagnostics })
+        Ok(Frame { width: self.desc.width, height: self.desc.height, rgba, report, overdraw, diagnostics, gbuffer })
     }
 }
 

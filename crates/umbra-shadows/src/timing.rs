@@ -66,8 +66,14 @@ impl PassTimer {
     }
 
     /// Opens a diagnostic pass (see [`PassReport::diagnostic`]).
-    pub fn begin_diagnostic<'a>(&'a self, rec: &mut Recorder<'a>, log: &mut PassLog, name: String, light: usize) {
-        let pass = PassReport { name, light: Some(light), draws: 0, triangles: 0, gpu_ms: None, diagnostic: true };
+    pub fn begin_diagnostic<'a>(
+        &'a self,
+        rec: &mut Recorder<'a>,
+        log: &mut PassLog,
+        name: String,
+        light: Option<usize>,
+    ) {
+        let pass = PassReport { name, light, draws: 0, triangles: 0, gpu_ms: None, diagnostic: true };
         self.open(rec, log, pass);
     }
 

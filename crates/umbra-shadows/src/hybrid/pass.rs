@@ -5,7 +5,7 @@
 
 use super::cull::BOX_VERTICES;
 use super::settings::{MaskKind, COUNT_BITS, DEPTH_BOUNDS_EPSILON, SILHOUETTE_BIT};
-use crate::diagnostics::{self, LightDiagnostics, PixelClass};
+use crate::diagnostics::ClassReadback;
 use crate::forward;
 use crate::gpu_scene::{DrawPush, GpuScene};
 use crate::shadow_map::{self, ShadowFilter, ShadowMapSettings};
@@ -15,7 +15,7 @@ use crate::timing::{PassLog, PassTimer};
 use crate::RenderResult;
 use umbra_scene::Scene;
 use umbra_vk::{
-    vk, Blend, Buffer, BufferDesc, ColorAttachment, ColorTarget, Context, DepthAttachment, DepthState, DescriptorSet,
+    vk, Blend, Buffer, ColorAttachment, ColorTarget, Context, DepthAttachment, DepthState, DescriptorSet,
     GraphicsPipeline, GraphicsPipelineDesc, Image, ImageDesc, ImageState, PipelineLayout, QueryPool, Recorder,
     RenderTargets, StencilFace,
 };
@@ -360,7 +360,7 @@ impl HybridPass {
         if let Some(q) = h.fragment_query {
             // The volume fragments the mask lets through (no depth test, no writes); without
             // a mask the query stays empty (the count is the unmasked one).
-            timer.begin_diagnostic(rec, log, name("masked volume fragments"), h.light);
+            timer.begin_diagnostic(rec, log, name("masked volume fragments"), Some(h.light));
             rec.begin_rendering(&RenderTargets { color: &[], depth: Some(attach(None)) });
             rec.begin_query(h.queries, q);
             let counting = match h.mask {
@@ -384,13 +384,15 @@ impl HybridPass {
         }
 
         let Some(out) = h.readback else { return };
-        timer.begin_diagnostic(rec, log, name("hybrid diagnostics"), h.light);
+        timer.begin_diagnostic(rec, log, name("hybrid diagnostics"), Some(h.light));
         rec.transition(&[
             (classes, ImageState::FragmentRead, ImageState::TransferSrc),
             (target, ImageState::DepthStencilAttachment, ImageState::TransferSrc),
         ]);
         rec.copy_image_to_buffer(classes, 0, &out.classes);
-        rec.copy_stencil_to_buffer(target, &out.stencil);
+        if let Some(stencil) = &out.stencil {
+            rec.copy_stencil_to_buffer(target, stencil);
+        }
         rec.transition(&[
             (classes, ImageState::TransferSrc, ImageState::FragmentRead),
             (target, ImageState::TransferSrc, ImageState::DepthStencilAttachment),
@@ -445,42 +447,5 @@ pub(crate) struct HybridLight<'a> {
     /// With `overdraw`: the query counting masked volume fragments (written even when empty:
     /// every query of the pool is read back). With diagnostics: the readbacks.
     pub fragment_query: Option<u32>,
-    pub readback: Option<&'a HybridReadback>,
-}
-
-/// Host-visible copies of one hybrid light's classes and stencil.
-pub(crate) struct HybridReadback {
-    classes: Buffer,
-    stencil: Buffer,
-}
-
-impl HybridReadback {
-    pub fn new(ctx: &Context, width: u32, height: u32) -> RenderResult<Self> {
-        let pixels = u64::from(width) * u64::from(height);
-        Ok(Self {
-            classes: Buffer::new(ctx, "hybrid readback: classes", BufferDesc::readback(4 * pixels))?,
-            stencil: Buffer::new(ctx, "hybrid readback: stencil", BufferDesc::readback(pixels))?,
-        })
-    }
-
-    /// The light's diagnostics: silhouette pixels turn black where their count (under `mask`'s
-    /// count bits) is non-zero, and stay green where it is zero.
-    pub fn read(&self, light: usize, mask: MaskKind) -> RenderResult<LightDiagnostics> {
-        let mut classification = self.classes.read()?;
-        let stencil = self.stencil.read()?;
-        let count_bits = if mask == MaskKind::Stencil { COUNT_BITS as u8 } else { 0xff };
-        let background = diagnostics::BACKGROUND.map(|c| (c * 255.0).round() as u8);
-        for (p, s) in classification.chunks_exact_mut(4).zip(&stencil) {
-            // Nothing written (no surface): the classes target's clear value, black.
-            if p[..3] == [0, 0, 0] {
-                p.copy_from_slice(&background);
-                continue;
-            }
-            p[3] = 255;
-            if PixelClass::decode([p[0], p[1], p[2], p[3]]) == PixelClass::SilhouetteLit && s & count_bits != 0 {
-                p[..3].fill(0);
-            }
-        }
-        Ok(LightDiagnostics { light, classification, points: None, silhouette_map: None, stencil: Some(stencil) })
-    }
+    pub readback: Option<&'a ClassReadback>,
 }

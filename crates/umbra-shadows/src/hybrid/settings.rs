@@ -42,6 +42,14 @@ impl MaskKind {
             Self::Stencil
         }
     }
+
+    /// The stencil bits that hold the volume count under this mask.
+    pub(crate) fn count_bits(self) -> u8 {
+        match self {
+            Self::Stencil => COUNT_BITS as u8,
+            _ => 0xff,
+        }
+    }
 }
 
 impl std::str::FromStr for MaskKind {

@@ -1,0 +1,92 @@
+//! `summary.md`: per scene, one table row per configuration, the plots, and what was skipped.
+
+use crate::record::{Record, Results};
+use std::fmt::Write;
+
+fn ms(v: Option<f64>) -> String {
+    v.map_or_else(|| "n/a".into(), |v| format!("{v:.3}"))
+}
+
+fn pct(v: f64) -> String {
+    format!("{:.3}", 100.0 * v)
+}
+
+/// The table of `records` (one scene), fastest first.
+pub fn table(records: &[&Record]) -> String {
+    let mut rows: Vec<&&Record> = records.iter().collect();
+    rows.sort_by(|a, b| {
+        let t = |r: &Record| r.gpu_ms.map_or(f64::INFINITY, |s| s.median);
+        t(a).total_cmp(&t(b))
+    });
+    let mut s = String::from(
+        "| configuration | GPU ms median (p25–p75) | CPU silhouette ms | wrong % | false shadow % | false lit % | edge-band wrong % | max wrong distance px | O (overdraw) | P % | masked volume fragments |\n\
+         | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n",
+    );
+    for r in rows {
+        let a = &r.accuracy;
+        let gpu = r.gpu_ms.map_or_else(|| "n/a".into(), |g| format!("{:.3} ({:.3}–{:.3})", g.median, g.p25, g.p75));
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            r.config.label(),
+            gpu,
+            ms(r.cpu_silhouette_ms.map(|c| c.median)),
+            pct(a.wrong_fraction),
+            pct(a.false_shadow_fraction),
+            pct(a.false_lit_fraction),
+            pct(a.edge_band_wrong_fraction),
+            a.max_wrong_distance_px.map_or_else(|| "–".into(), |d| format!("{d:.1}")),
+            r.fill.volume_overdraw.map_or_else(|| "–".into(), |o| format!("{o:.2}")),
+            r.fill.silhouette_fraction.map_or_else(|| "–".into(), pct),
+            r.fill.masked_volume_fragments.map_or_else(|| "–".into(), |m| m.to_string()),
+        );
+    }
+    s
+}
+
+/// The whole summary, with links to the plots written beside it.
+pub fn markdown(results: &Results, scenes: &[String], plots: &[(String, Vec<String>)]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# umbra-bench sweep\n");
+    let _ = writeln!(
+        s,
+        "Device: **{}** ({}); depthBounds: {}; timestamps: {}.",
+        results.device, results.driver, results.depth_bounds, results.timestamps
+    );
+    if let Some(r) = results.records.first() {
+        let _ = writeln!(
+            s,
+            "Image {}×{}, {} warm-up frames then {} timed frames per configuration.\n",
+            r.width, r.height, results.warmup, r.frames
+        );
+    }
+    let _ = writeln!(
+        s,
+        "GPU times are medians over the timed frames of the technique's passes (diagnostic passes: G-buffer, classification, overdraw, excluded). \
+         Wrong pixels: pixels whose lit/shadowed state differs from the exact reference (obvhs shadow rays from the G-buffer), over the pixels both call in question; \
+         the edge band is the pixels within 2 px of a true shadow edge.\n"
+    );
+    for scene in scenes {
+        let records: Vec<&Record> = results.records.iter().filter(|r| &r.config.scene == scene).collect();
+        let _ = writeln!(s, "## {scene}\n");
+        if let Some(r) = records.first() {
+            let _ = writeln!(s, "{} triangles.\n", r.triangles);
+        }
+        for (sc, files) in plots {
+            if sc == scene {
+                for f in files {
+                    let _ = writeln!(s, "![{f}]({f})\n");
+                }
+            }
+        }
+        s.push_str(&table(&records));
+        s.push('\n');
+    }
+    if !results.skipped.is_empty() {
+        let _ = writeln!(s, "## Skipped\n");
+        for k in &results.skipped {
+            let _ = writeln!(s, "- {} on {}: {}", k.config.label(), k.config.scene, k.reason);
+        }
+    }
+    s
+}

@@ -1,0 +1,276 @@
+//! The sweep: every (scene, technique, option) configuration rendered for warm-up plus N
+//! frames, timed per pass, and its last frame scored against the exact reference.
+
+use crate::record::{Accuracy, Config, Fill, PassTime, Record, Skipped, Spread};
+use crate::{BenchError, BenchResult};
+use std::collections::BTreeMap;
+use std::path::Path;
+use umbra_reference::{save_error_png, Comparison, SceneBvh, ShadowMask, SurfaceImage, WrongPixels};
+use umbra_scene::{Scene, Technique};
+use umbra_shadows::{Frame, HybridSettings, MaskKind, RenderError, Renderer, RendererDesc, ShadowFilter};
+use umbra_vk::{Context, VkError};
+
+/// What to sweep.
+#[derive(Clone, Debug)]
+pub struct Plan {
+    /// Scenes (procedural names, .toml, .glb/.gltf).
+    pub scenes: Vec<String>,
+    /// Short technique names.
+    pub techniques: Vec<&'static str>,
+    /// Shadow-map sizes.
+    pub sm_sizes: Vec<u32>,
+    /// Shadow-map filters.
+    pub filters: Vec<ShadowFilter>,
+    /// Hybrid computation masks.
+    pub masks: Vec<MaskKind>,
+}
+
+/// Short name ↔ technique.
+pub const TECHNIQUES: [(&str, Technique); 4] = [
+    ("sm", Technique::ShadowMap),
+    ("silmap", Technique::SilhouetteMap),
+    ("sv", Technique::ShadowVolume),
+    ("hybrid", Technique::Hybrid),
+];
+
+/// The technique of a short name.
+pub fn technique(short: &str) -> Option<Technique> {
+    TECHNIQUES.iter().find(|(s, _)| *s == short).map(|&(_, t)| t)
+}
+
+impl Plan {
+    /// Every configuration of one scene: shadow maps per size and filter, silhouette maps per
+    /// size, shadow volumes once, the hybrid per size and mask.
+    pub fn configs(&self, scene: &str) -> Vec<Config> {
+        let mut out = Vec::new();
+        let base = |technique| Config { scene: scene.to_owned(), technique, sm_size: None, filter: None, mask: None };
+        for &t in &self.techniques {
+            match t {
+                "sm" => {
+                    for &s in &self.sm_sizes {
+                        for f in &self.filters {
+                            out.push(Config { sm_size: Some(s), filter: Some(f.name()), ..base(t) });
+                        }
+                    }
+                }
+                "silmap" => out.extend(self.sm_sizes.iter().map(|&s| Config { sm_size: Some(s), ..base(t) })),
+                "hybrid" => {
+                    for &s in &self.sm_sizes {
+                        for m in &self.masks {
+                            out.push(Config { sm_size: Some(s), mask: Some(m.name()), ..base(t) });
+                        }
+                    }
+                }
+                _ => out.push(base(t)),
+            }
+        }
+        out
+    }
+}
+
+/// Why the device cannot run `config`, if it cannot.
+pub fn unsupported(ctx: &Context, config: &Config) -> Option<String> {
+    let caps = ctx.capabilities();
+    if config.mask == Some(MaskKind::DepthBounds.name()) && !caps.depth_bounds {
+        return Some(format!("{} has no depthBounds feature", caps.device_name));
+    }
+    match config.sm_size {
+        Some(s) if s > caps.max_image_dimension_2d => {
+            Some(format!("{s}² exceeds maxImageDimension2D {} on {}", caps.max_image_dimension_2d, caps.device_name))
+        }
+        _ => None,
+    }
+}
+
+/// The renderer settings of `config`: diagnostics (classification), G-buffer and volume
+/// overdraw on, all as diagnostic passes outside the technique's timed total.
+pub fn renderer_desc(config: &Config, width: u32, height: u32) -> BenchResult<RendererDesc> {
+    let mut desc = RendererDesc::new(width, height);
+    if let Some(s) = config.sm_size {
+        desc.shadow_map.resolution = s;
+    }
+    if let Some(f) = config.filter {
+        desc.shadow_map.filter = f.parse().map_err(BenchError::Usage)?;
+    }
+    let mask = config.mask.map(str::parse::<MaskKind>).transpose().map_err(BenchError::Usage)?;
+    desc.hybrid = HybridSettings { resolution: config.sm_size, mask, cull_blockers: false };
+    desc.shadow_volume.overdraw = true;
+    desc.diagnostics = true;
+    desc.gbuffer = true;
+    Ok(desc)
+}
+
+/// Measures one configuration of `scene` (whose lights all get the configuration's technique);
+/// `Ok(Err(reason))` when the device turns it down with a typed "unsupported".
+#[allow(clippy::too_many_arguments)]
+pub fn measure(
+    ctx: &Context,
+    scene: &Scene,
+    bvh: &SceneBvh,
+    config: &Config,
+    size: (u32, u32),
+    warmup: usize,
+    frames: usize,
+    out: &Path,
+) -> BenchResult<Result<Record, String>> {
+    let Some(technique) = technique(config.technique) else {
+        return Err(BenchError::Usage(format!("unknown technique {:?}", config.technique)));
+    };
+    let mut scene = scene.clone();
+    for light in &mut scene.lights {
+        light.technique = technique;
+    }
+    let desc = renderer_desc(config, size.0, size.1)?;
+    let mut renderer = match Renderer::new(ctx, desc) {
+        Ok(r) => r,
+        Err(e) => return unsupported_or(e),
+    };
+    let mut timed: Vec<Frame> = Vec::with_capacity(frames);
+    for i in 0..warmup + frames.max(1) {
+        let frame = match renderer.render(&scene) {
+            Ok(f) => f,
+            Err(e) => return unsupported_or(e),
+        };
+        if i >= warmup {
+            timed.push(frame);
+        }
+    }
+    let Some(last) = timed.last() else { return Err(BenchError::Usage("no frame rendered".into())) };
+    let accuracy = score(&scene, bvh, last, &out.join("images"), &config.id())?;
+    let r = &last.report;
+    Ok(Ok(Record {
+        config: config.clone(),
+        device: r.device.clone(),
+        driver: r.driver.clone(),
+        width: size.0,
+        height: size.1,
+        triangles: r.scene.triangles,
+        frames: timed.len(),
+        gpu_ms: Spread::of(&timed.iter().filter_map(|f| f.report.total_gpu_ms).collect::<Vec<_>>()),
+        passes: pass_times(&timed),
+        cpu_silhouette_ms: Spread::of(&timed.iter().filter_map(cpu_silhouette_ms).collect::<Vec<_>>()),
+        fill: fill(last),
+        accuracy,
+        error_image: format!("images/{}-error.png", config.id()),
+    }))
+}
+
+/// A typed "unsupported" becomes a skip reason; anything else stops the sweep.
+fn unsupported_or<T>(e: RenderError) -> BenchResult<Result<T, String>> {
+    match e {
+        RenderError::Vk(VkError::Unsupported { .. })
+        | RenderError::UnsupportedLight { .. }
+        | RenderError::InvalidShadowMap { .. } => Ok(Err(e.to_string())),
+        e => Err(e.into()),
+    }
+}
+
+/// Median GPU time of every technique pass, in the order the frame recorded them.
+fn pass_times(frames: &[Frame]) -> Vec<PassTime> {
+    let mut order: Vec<String> = Vec::new();
+    let mut samples: BTreeMap<String, Vec<f64>> = BTreeMap::new();
+    for f in frames {
+        for p in f.report.passes.iter().filter(|p| !p.diagnostic) {
+            if !samples.contains_key(&p.name) {
+                order.push(p.name.clone());
+            }
+            let entry = samples.entry(p.name.clone()).or_default();
+            entry.extend(p.gpu_ms);
+        }
+    }
+    order
+        .into_iter()
+        .filter_map(|name| {
+            let gpu_ms = Spread::of(samples.get(&name)?)?;
+            Some(PassTime { name, gpu_ms })
+        })
+        .collect()
+}
+
+/// CPU time spent finding silhouettes in one frame: silhouette-map edge extraction plus
+/// shadow-volume construction, over every light; `None` when no light does either.
+fn cpu_silhouette_ms(frame: &Frame) -> Option<f64> {
+    let times: Vec<f64> = frame
+        .report
+        .lights
+        .iter()
+        .flat_map(|l| {
+            let edges = l.silhouette_map.as_ref().map(|s| s.cpu_extract_ms);
+            edges.into_iter().chain(l.shadow_volume.as_ref().map(|v| v.cpu_build_ms))
+        })
+        .collect();
+    (!times.is_empty()).then(|| times.iter().sum())
+}
+
+fn fill(frame: &Frame) -> Fill {
+    let pixels = f64::from(frame.width) * f64::from(frame.height);
+    let lights = &frame.report.lights;
+    let sum = |v: Vec<Option<u64>>| -> Option<u64> {
+        if v.is_empty() {
+            None
+        } else {
+            v.into_iter().sum()
+        }
+    };
+    let volume_fragments =
+        sum(lights.iter().filter_map(|l| l.shadow_volume.as_ref()).map(|v| v.volume_fragments).collect());
+    let masked = sum(lights.iter().filter_map(|l| l.hybrid.as_ref()).map(|h| h.masked_volume_fragments).collect());
+    let fractions: Vec<f64> = lights
+        .iter()
+        .filter_map(|l| {
+            l.hybrid
+                .as_ref()
+                .map(|h| h.silhouette_fraction)
+                .or(l.silhouette_map.as_ref().and_then(|s| s.silhouette_fraction))
+        })
+        .collect();
+    Fill {
+        volume_overdraw: volume_fragments.map(|n| n as f64 / pixels),
+        volume_fragments,
+        masked_volume_fragments: masked,
+        silhouette_fraction: (!fractions.is_empty()).then(|| fractions.iter().sum()),
+    }
+}
+
+/// Every light's mask against the reference from the frame's own G-buffer; writes the first
+/// light's error image as `<dir>/<id>-error.png`.
+fn score(scene: &Scene, bvh: &SceneBvh, frame: &Frame, dir: &Path, id: &str) -> BenchResult<Accuracy> {
+    let gbuffer =
+        frame.gbuffer.as_ref().ok_or_else(|| BenchError::Usage("the renderer returned no G-buffer".into()))?;
+    let surfaces = SurfaceImage::from_gbuffer(frame.width, frame.height, &gbuffer.position, &gbuffer.normal)?;
+    std::fs::create_dir_all(dir).map_err(|e| BenchError::output(dir, e))?;
+    let (mut all, mut band) = (WrongPixels::default(), WrongPixels::default());
+    let (mut max_distance, mut undecided, mut band_px) = (None::<f32>, 0, umbra_reference::EDGE_BAND_PX);
+    for (i, d) in frame.diagnostics.iter().enumerate() {
+        let technique = ShadowMask::new(frame.width, frame.height, d.shadow_mask())?;
+        let truth = ShadowMask::reference(scene, bvh, d.light, &surfaces)?;
+        let c = Comparison::new(&technique, &truth)?;
+        all += c.all;
+        band += c.edge_band;
+        if let Some(d) = c.max_wrong_distance_px {
+            max_distance = Some(max_distance.map_or(d, |m| m.max(d)));
+        }
+        undecided += c.undecided;
+        band_px = c.edge_band_px;
+        if i == 0 {
+            save_error_png(&technique, &truth, &dir.join(format!("{id}-error.png")))?;
+        }
+    }
+    Ok(Accuracy {
+        all,
+        edge_band: band,
+        edge_band_px: band_px,
+        wrong_fraction: all.fraction(),
+        false_shadow_fraction: all.false_shadow_fraction(),
+        false_lit_fraction: all.false_lit_fraction(),
+        edge_band_wrong_fraction: band.fraction(),
+        max_wrong_distance_px: max_distance,
+        undecided,
+    })
+}
+
+/// A skipped configuration, logged.
+pub fn skip(config: &Config, reason: String) -> Skipped {
+    log::warn!("skipped {} on {}: {reason}", config.label(), config.scene);
+    Skipped { config: config.clone(), reason }
+}

@@ -1,0 +1,101 @@
+//! The G-buffer pass (with `RendererDesc::gbuffer`): after the depth pass, every object drawn
+//! again over the frame's depth (EQUAL) into two RGBA32F targets, world position and geometric
+//! normal (`shaders-glsl/debug/gbuffer.frag`), then copied out. The exact reference
+//! (`umbra-reference`) casts its shadow rays from these points, the very ones the lighting
+//! passes shaded.
+
+use crate::diagnostics::GBuffer;
+use crate::forward::{self, surface_pass_desc};
+use crate::gpu_scene::GpuScene;
+use crate::timing::{PassLog, PassTimer};
+use crate::RenderResult;
+use umbra_scene::Scene;
+use umbra_vk::{
+    vk, Buffer, BufferDesc, ColorAttachment, ColorTarget, Context, DepthAttachment, GraphicsPipeline, Image, ImageDesc,
+    ImageState, PipelineLayout, Recorder, RenderTargets,
+};
+
+/// Both targets' format: 32-bit floats, so positions keep every bit the shader computed.
+const FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+
+/// The G-buffer's pipeline, targets and readbacks.
+pub(crate) struct GBufferPass {
+    pipeline: GraphicsPipeline,
+    position: Image,
+    normal: Image,
+    position_readback: Buffer,
+    normal_readback: Buffer,
+}
+
+impl GBufferPass {
+    pub fn new(
+        ctx: &Context,
+        layout: &PipelineLayout,
+        depth_format: vk::Format,
+        width: u32,
+        height: u32,
+    ) -> RenderResult<Self> {
+        let mut desc = surface_pass_desc("g-buffer", umbra_shaders::debug::GBUFFER_FRAG, depth_format, &[]);
+        let targets = [ColorTarget::opaque(FORMAT), ColorTarget::opaque(FORMAT)];
+        desc.color_targets = &targets;
+        let pipeline = GraphicsPipeline::new(ctx, layout, &desc)?;
+        let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
+        let image = |name| Image::new(ctx, name, ImageDesc::new_2d(FORMAT, width, height).usage(usage));
+        let bytes = 16 * u64::from(width) * u64::from(height);
+        Ok(Self {
+            pipeline,
+            position: image("g-buffer: position")?,
+            normal: image("g-buffer: normal")?,
+            position_readback: Buffer::new(ctx, "g-buffer readback: position", BufferDesc::readback(bytes))?,
+            normal_readback: Buffer::new(ctx, "g-buffer readback: normal", BufferDesc::readback(bytes))?,
+        })
+    }
+
+    /// Records the `g-buffer` diagnostic pass over `depth` (in DepthStencilAttachment, left so).
+    #[allow(clippy::too_many_arguments)]
+    pub fn record<'a>(
+        &'a self,
+        rec: &mut Recorder<'a>,
+        timer: &'a PassTimer,
+        log: &mut PassLog,
+        layout: &'a PipelineLayout,
+        gpu: &'a GpuScene,
+        scene: &Scene,
+        depth: &'a Image,
+    ) {
+        timer.begin_diagnostic(rec, log, "g-buffer".into(), None);
+        let (p, n) = (&self.position, &self.normal);
+        rec.transition(&[
+            (p, ImageState::Undefined, ImageState::ColorAttachment),
+            (n, ImageState::Undefined, ImageState::ColorAttachment),
+        ]);
+        let color =
+            [ColorAttachment { image: p, clear: Some([0.0; 4]) }, ColorAttachment { image: n, clear: Some([0.0; 4]) }];
+        let depth = DepthAttachment { image: depth, view: None, clear: None, clear_stencil: None, read_only: false };
+        rec.begin_rendering(&RenderTargets { color: &color, depth: Some(depth) });
+        rec.bind_pipeline(&self.pipeline);
+        forward::draw_objects(rec, layout, gpu, scene, 0, log);
+        rec.end_rendering();
+        rec.transition(&[
+            (p, ImageState::ColorAttachment, ImageState::TransferSrc),
+            (n, ImageState::ColorAttachment, ImageState::TransferSrc),
+        ]);
+        rec.copy_image_to_buffer(p, 0, &self.position_readback);
+        rec.copy_image_to_buffer(n, 0, &self.normal_readback);
+        timer.end(rec, log);
+    }
+
+    /// The G-buffer of the last submitted frame that recorded this pass.
+    pub fn read(&self) -> RenderResult<GBuffer> {
+        let floats = |b: &Buffer| -> RenderResult<Vec<[f32; 4]>> {
+            let bytes = b.read()?;
+            Ok(bytes
+                .chunks_exact(16)
+                .map(|c| {
+                    std::array::from_fn(|k| f32::from_le_bytes([c[4 * k], c[4 * k + 1], c[4 * k + 2], c[4 * k + 3]]))
+                })
+                .collect())
+        };
+        Ok(GBuffer { position: floats(&self.position_readback)?, normal: floats(&self.normal_readback)? })
+    }
+}
