@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Regenerates the measurements behind docs/results.md: the umbra-bench sweep on lavapipe and on
+# SwiftShader (and on any other device named in UMBRA_RESULTS_DEVICES, e.g. a GPU's name), each
+# into docs/results/<device>/ (summary.md, results.csv, results.json) with its plots copied to
+# docs/images/results/<device>/. The reading in docs/results.md is written from these.
+# Installs what it needs first (ci/setup.sh). Takes about 20 minutes on 2 cores.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+if [ "$(id -u)" -eq 0 ]; then
+    sws_icd=$(bash ci/setup.sh | tail -n 1)
+else
+    sws_icd=$(sudo -E bash ci/setup.sh | tail -n 1)
+fi
+lvp_icd=$(ls /usr/share/vulkan/icd.d/lvp_icd.*.json 2>/dev/null | head -n 1)
+export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$HOME/.cache/umbra/target}"
+export VK_ICD_FILENAMES="${VK_ICD_FILENAMES:-$lvp_icd:$sws_icd}"
+export UMBRA_ASSETS="${UMBRA_ASSETS:-$(pwd)/../shared/assets}"
+cargo build --release --locked -p umbra-bench
+
+# SwiftShader runs about six times slower than lavapipe here: it gets a smaller sweep.
+sweep_args() {
+    case "$1" in
+        swiftshader) echo "--scenes cubes,cylinder,spot.glb --sm-sizes 512,2048 --filters pcf2x2 --masks depth-bounds,stencil --frames 3 --warmup 1" ;;
+        *) echo "--scenes cubes,cage,tree,cylinder,spot.glb --sm-sizes 256,512,1024,2048 --filters nearest,pcf2x2 --masks depth-bounds,stencil,none --frames 5 --warmup 2" ;;
+    esac
+}
+
+for device in ${UMBRA_RESULTS_DEVICES:-llvmpipe swiftshader}; do
+    out="target/results/$device"
+    rm -rf "$out"
+    # shellcheck disable=SC2046
+    UMBRA_DEVICE=$device "$CARGO_TARGET_DIR/release/umbra-bench" sweep $(sweep_args "$device") \
+        --techniques sm,silmap,sv,hybrid --size 512x384 --spot-lights --quiet --out "$out"
+    mkdir -p "docs/results/$device" "docs/images/results/$device"
+    cp "$out/summary.md" "$out/results.csv" "$out/results.json" "docs/results/$device/"
+    cp "$out"/*.png "docs/images/results/$device/"
+    # The summary sits one folder away from its plots.
+    sed -i "s|!\\[\\(.*\\)\\](\\(.*\\.png\\))|![\\1](../../images/results/$device/\\2)|" "docs/results/$device/summary.md"
+done
