@@ -2,7 +2,7 @@
 //! occlusion. Small and analytic on purpose: each test knows its scene's boxes and planes.
 #![allow(dead_code)]
 
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 
 /// An axis-aligned box.
 #[derive(Clone, Copy, Debug)]
@@ -31,16 +31,9 @@ impl Box3 {
     }
 }
 
-/// The world-space ray through the centre of pixel `(x, y)` (row 0 at the top), for a camera
-/// with `view_proj` (umbra's conventions: depth 0..1, y-up viewport).
-pub fn pixel_ray(view_proj: Mat4, width: u32, height: u32, x: u32, y: u32) -> (Vec3, Vec3) {
-    let inv = view_proj.inverse();
-    let ndc_x = (x as f32 + 0.5) / width as f32 * 2.0 - 1.0;
-    let ndc_y = 1.0 - (y as f32 + 0.5) / height as f32 * 2.0;
-    let near = inv.project_point3(Vec3::new(ndc_x, ndc_y, 0.0));
-    let far = inv.project_point3(Vec3::new(ndc_x, ndc_y, 0.5));
-    (near, (far - near).normalize())
-}
+/// The ray through a pixel centre: the exact reference's own.
+#[allow(unused_imports)]
+pub use umbra_reference::pixel_ray;
 
 /// Where a ray meets the plane `y = height`, if ahead of it.
 pub fn hit_plane_y(origin: Vec3, dir: Vec3, height: f32) -> Option<Vec3> {
