@@ -3,39 +3,40 @@
 
 mod common;
 
-use common::bvh::Bvh;
 use common::raycast::pixel_ray;
 use glam::{Mat4, Vec3, Vec4};
 use umbra::scene::{primitives, Camera, Light, Scene, Technique};
 use umbra::shadows::{FarPlane, Frame, Renderer, RendererDesc, ShadowVolumeSettings, VolumeMode};
 use umbra::vk::Context;
+use umbra_reference::{towards, SceneBvh};
 
 /// The exact state of a pixel: `Some(shadowed)` for a surface that faces the light, `None`
 /// for background, surfaces facing away, and pixels whose centre lies within 0.5 px of a
 /// shadow or silhouette edge (a corner of the pixel sees something else).
 struct Reference {
-    all: Bvh,
-    casters: Bvh,
+    bvh: SceneBvh,
     light: Vec4,
 }
 
 impl Reference {
     fn new(scene: &Scene) -> Self {
-        Self { all: Bvh::of_scene(scene, false), casters: Bvh::of_scene(scene, true), light: scene.lights[0].position }
+        Self { bvh: SceneBvh::build(scene), light: scene.lights[0].position }
     }
 
     /// (object seen, facing the light, shadowed) along one camera ray.
     fn sample(&self, o: Vec3, d: Vec3) -> Option<(usize, bool, bool)> {
-        let hit = self.all.cast(o, d, 0.0, f32::INFINITY, None)?;
-        let tri = self.all.tri(hit.tri);
+        let hit = self.bvh.closest_hit(o, d, f32::INFINITY)?;
+        let tri = self.bvh.triangles()[hit.triangle];
         let p = o + d * hit.t;
-        let mut n = (tri.v[1] - tri.v[0]).cross(tri.v[2] - tri.v[0]).normalize();
+        let mut n = tri.normal();
         if n.dot(d) > 0.0 {
             n = -n; // two-sided lighting: the side the camera sees
         }
         let to_light = self.light.truncate() - p * self.light.w;
         let facing = n.dot(to_light) > 1e-6;
-        let shadowed = facing && self.casters.shadowed(p + n * 1e-4, self.light, None);
+        let from = p + n * 1e-4;
+        let (dir, distance) = towards(self.light, from);
+        let shadowed = facing && self.bvh.occluded(from, dir, distance - 1e-4);
         Some((tri.object, facing, shadowed))
     }
 

@@ -2,7 +2,6 @@
 //! check that the validation layer stayed silent.
 #![allow(dead_code)]
 
-pub mod bvh;
 pub mod raycast;
 
 use std::path::PathBuf;
