@@ -1,20 +1,17 @@
 #!/usr/bin/env bash
 # Regenerates the measurements behind docs/results.md: the umbra-bench sweep on lavapipe and on
-# SwiftShader (and on any other device named in UMBRA_RESULTS_DEVICES, e.g. a GPU's name), each
+# SwiftShader (and on any other device named in UMBRA_RESULTS_DEVICES, e.g. a GPU's name whose
+# ICD file UMBRA_EXTRA_ICDS adds), each
 # into docs/results/<device>/ (summary.md, results.csv, results.json) with its plots copied to
 # docs/images/results/<device>/. The reading in docs/results.md is written from these.
 # Installs what it needs first (ci/setup.sh). Takes about 20 minutes on 2 cores.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-if [ "$(id -u)" -eq 0 ]; then
-    sws_icd=$(bash ci/setup.sh | tail -n 1)
-else
-    sws_icd=$(sudo -E bash ci/setup.sh | tail -n 1)
-fi
-lvp_icd=$(ls /usr/share/vulkan/icd.d/lvp_icd.*.json 2>/dev/null | head -n 1)
-export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$HOME/.cache/umbra/target}"
-export VK_ICD_FILENAMES="${VK_ICD_FILENAMES:-$lvp_icd:$sws_icd}"
+# shellcheck source=ci/drivers.sh
+source ci/drivers.sh
+export VK_ICD_FILENAMES="$VK_ICD_FILENAMES${UMBRA_EXTRA_ICDS:+:$UMBRA_EXTRA_ICDS}"
+export VK_DRIVER_FILES="$VK_ICD_FILENAMES"
 export UMBRA_ASSETS="${UMBRA_ASSETS:-$(pwd)/../shared/assets}"
 cargo build --release --locked -p umbra-bench
 

@@ -5,20 +5,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-if [ "$(id -u)" -eq 0 ]; then
-    sws_icd=$(bash ci/setup.sh | tail -n 1)
-else
-    sws_icd=$(sudo -E bash ci/setup.sh | tail -n 1)
-fi
-lvp_icd=$(ls /usr/share/vulkan/icd.d/lvp_icd.*.json 2>/dev/null | head -n 1)
-[ -f "$lvp_icd" ] || { echo "test: lavapipe ICD not found (mesa-vulkan-drivers)" >&2; exit 1; }
-[ -f "$sws_icd" ] || { echo "test: SwiftShader ICD not found ($sws_icd)" >&2; exit 1; }
-
-# A persistent target dir outside the clone: shaderc's C++ build is paid once per machine.
-export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$HOME/.cache/umbra/target}"
-# Only the two CPU drivers are visible, so UMBRA_DEVICE picks between exactly these.
-export VK_ICD_FILENAMES="$lvp_icd:$sws_icd"
-export VK_DRIVER_FILES="$VK_ICD_FILENAMES"
+# shellcheck source=ci/drivers.sh
+source ci/drivers.sh
 export UMBRA_VALIDATION=1
 export RUST_BACKTRACE=1
 
