@@ -22,6 +22,9 @@ pub enum BenchError {
     /// The reference or a comparison failed.
     #[error(transparent)]
     Reference(#[from] umbra_reference::ReferenceError),
+    /// The conformance suite could not run a case.
+    #[error(transparent)]
+    Conformance(#[from] umbra_conformance::ConformanceError),
     /// A flag's value makes no sense.
     #[error("{0}")]
     Usage(String),

@@ -14,11 +14,17 @@
 //!     --sm-sizes 256,512,1024 --size 1024x768 --frames 30 --out bench-out
 //! ```
 //!
+//! `umbra-bench hard-cases` runs the hard-case conformance suite (`tests/hard-cases/`,
+//! `umbra-conformance`) on each device named by `--devices` with the validation layer on, and
+//! writes `hard-cases.md` (cases × techniques × devices), a picture per case and
+//! `results/hard-cases.json` under `--out` (`bash ci/hard-cases.sh` writes `docs/`).
+//!
 //! Configurations the device cannot run (the depth-bounds mask without `depthBounds`, a
 //! silhouette map for a light that needs a cube map, …) are skipped with the reason logged and
 //! listed in `results.json` and `summary.md`.
 
 mod error;
+mod hard_cases;
 mod plots;
 mod record;
 mod summary;
@@ -44,6 +50,8 @@ struct Cli {
 enum Command {
     /// Render, time and score every configuration; write results, plots and a summary.
     Sweep(SweepArgs),
+    /// Run the hard-case conformance suite on several devices; write its table and pictures.
+    HardCases(hard_cases::HardCasesArgs),
 }
 
 #[derive(clap::Args, Debug)]
@@ -85,7 +93,7 @@ struct SweepArgs {
     quiet: bool,
 }
 
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
+pub(crate) fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("{s:?} is not WIDTHxHEIGHT"))?;
     let parse = |v: &str| v.trim().parse::<u32>().map_err(|e| format!("{v:?}: {e}"));
     Ok((parse(w)?, parse(h)?))
@@ -96,6 +104,7 @@ fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Sweep(args) => run_sweep(&args),
+        Command::HardCases(args) => hard_cases::run(&args),
     };
     if let Err(e) = result {
         eprintln!("umbra-bench: {e}");

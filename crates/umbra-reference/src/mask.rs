@@ -57,14 +57,7 @@ impl ShadowMask {
                 if !receives {
                     return None;
                 }
-                let (dir, distance) = towards(l.position, s.position);
-                if !reaches(l, s, dir) {
-                    return None;
-                }
-                let offset = RAY_OFFSET_SCALE * s.position.abs().max_element().max(1.0);
-                let origin = s.position + s.normal * offset;
-                let t_max = if l.position.w == 0.0 { f32::INFINITY } else { distance - offset };
-                Some(bvh.occluded(origin, dir, t_max))
+                shadow_state(l, bvh, s)
             })
             .collect();
         Ok(Self { width: surfaces.width, height: surfaces.height, shadowed })
@@ -96,6 +89,20 @@ impl ShadowMask {
         })
         .map_err(|e| ReferenceError::Output { path: path.to_owned(), message: e.to_string() })
     }
+}
+
+/// The exact state of one surface point for `light`: `None` where the light does not reach it
+/// (the surface faces away, or lies outside a spot's cone), else whether the shadow ray from
+/// it (offset by [`RAY_OFFSET_SCALE`]·|p| along the normal) meets a caster before the light.
+pub fn shadow_state(light: &Light, bvh: &SceneBvh, s: &Surface) -> Option<bool> {
+    let (dir, distance) = towards(light.position, s.position);
+    if !reaches(light, s, dir) {
+        return None;
+    }
+    let offset = RAY_OFFSET_SCALE * s.position.abs().max_element().max(1.0);
+    let origin = s.position + s.normal * offset;
+    let t_max = if light.position.w == 0.0 { f32::INFINITY } else { distance - offset };
+    Some(bvh.occluded(origin, dir, t_max))
 }
 
 /// The unit direction from `p` towards a homogeneous light position, and the distance (infinite

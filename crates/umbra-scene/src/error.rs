@@ -37,6 +37,14 @@ pub enum SceneError {
         /// What is wrong.
         why: String,
     },
+    /// Something other than a mesh is unusable: an object's transform, a light, the camera.
+    #[error("{what}: {why}")]
+    InvalidScene {
+        /// What is wrong (`object "floor"`, `light 2`, `camera`).
+        what: String,
+        /// Why.
+        why: String,
+    },
     /// A procedural scene name that does not exist.
     #[error("unknown scene {0:?}: expected one of {procedural}, a .toml scene file or a .glb/.gltf path", procedural = crate::procedural::NAMES.join(", "))]
     UnknownScene(String),

@@ -28,7 +28,7 @@ pub use camera::Camera;
 pub use error::{SceneError, SceneResult};
 pub use gltf_import::{import_gltf, import_gltf_slice};
 pub use light::{Light, LightKind, Spot, Technique};
-pub use mesh::{Aabb, Mesh};
+pub use mesh::{Aabb, Mesh, MAX_COORDINATE};
 pub use scene::{Object, Scene};
 pub use scene_file::{load_scene_file, parse_scene};
 pub use volume::{extrude, facing, silhouette_edges, Volume, VolumeStats, VolumeVertex};

@@ -3,6 +3,15 @@
 use crate::error::{SceneError, SceneResult};
 use glam::{Mat3, Mat4, Vec3};
 
+/// The largest coordinate magnitude a scene may hold, in world and object space.
+///
+/// Shadow techniques evaluate triangle planes at the light (Everitt–Kilgard's facing test):
+/// products of three coordinates. With every coordinate within ±1e12 those stay below
+/// 1.2e37, inside f32's range (3.4e38), so no intermediate overflows to infinity; beyond it a
+/// scene is rejected with a typed error before any GPU work. (Depth precision runs out long
+/// before: the conformance suite's large-coordinate case works at 1e5–1e6.)
+pub const MAX_COORDINATE: f32 = 1e12;
+
 /// An axis-aligned bounding box.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
@@ -173,6 +182,9 @@ impl Mesh {
         }
         if let Some(i) = self.positions.iter().position(|p| !p.is_finite()) {
             return bad(format!("position {i} is not finite"));
+        }
+        if let Some(i) = self.positions.iter().position(|p| p.abs().max_element() > MAX_COORDINATE) {
+            return bad(format!("position {i} is beyond ±{MAX_COORDINATE:e} (crate::MAX_COORDINATE)"));
         }
         check_indices(&self.name, self.positions.len(), &self.indices)
     }

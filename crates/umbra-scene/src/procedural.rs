@@ -154,13 +154,24 @@ fn cage_scene() -> Scene {
 fn tree_scene() -> Scene {
     let mut s = Scene::new("tree");
     add_floor(&mut s, 8.0);
-    let mut rng = Rng(0xD1B5_4A32_D192_ED03);
-    let mut tree = Mesh::default();
-    grow(&mut tree, &mut rng, Vec3::ZERO, Vec3::Y, 1.6, 0.12, 7);
-    add(&mut s, tree, "tree", Mat4::IDENTITY, Vec3::new(0.45, 0.33, 0.2));
+    add(&mut s, tree(TREE_SEED, 7), "tree", Mat4::IDENTITY, Vec3::new(0.45, 0.33, 0.2));
     point_light(&mut s, Vec3::new(2.0, 9.0, -3.0), Vec3::ZERO);
     s.camera = Camera::look_at(Vec3::new(-3.0, 3.0, 7.5), Vec3::new(0.0, 2.3, 0.0));
     s
+}
+
+/// The seed of the `tree` scene's tree.
+pub const TREE_SEED: u64 = 0xD1B5_4A32_D192_ED03;
+
+/// A branching tree of closed triangular prisms standing at the origin, 1.6 high at the
+/// trunk, `depth` levels of three children each (3^depth twigs: thin, many-edged geometry),
+/// shaped by `seed` (non-zero).
+pub fn tree(seed: u64, depth: u32) -> Mesh {
+    let mut rng = Rng(seed.max(1));
+    let mut tree = Mesh::default();
+    grow(&mut tree, &mut rng, Vec3::ZERO, Vec3::Y, 1.6, 0.12, depth);
+    tree.name = "tree".into();
+    tree
 }
 
 /// One branch (a closed triangular prism) and, below `depth`, three children.

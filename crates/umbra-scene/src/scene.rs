@@ -135,16 +135,56 @@ impl Scene {
         }
     }
 
-    /// Checks that every object's mesh exists and every mesh is valid.
+    /// Checks everything a frame relies on, before any GPU work: every mesh is valid (finite,
+    /// within [`crate::MAX_COORDINATE`], indices in range), every object refers to a mesh and
+    /// has a finite transform that keeps it within `MAX_COORDINATE`, every light has a finite
+    /// position (a direction that is not zero for w = 0), colour and intensity, and the camera
+    /// is finite with `0 < near < far`.
     pub fn validate(&self) -> crate::SceneResult<()> {
         for m in &self.meshes {
             m.validate()?;
         }
-        if let Some(o) = self.objects.iter().find(|o| o.mesh >= self.meshes.len()) {
-            return Err(crate::SceneError::InvalidMesh {
-                mesh: o.name.clone(),
-                why: format!("object refers to mesh {} of {}", o.mesh, self.meshes.len()),
-            });
+        let invalid = |what: String, why: String| Err(crate::SceneError::InvalidScene { what, why });
+        for (i, o) in self.objects.iter().enumerate() {
+            let what = || format!("object {i} ({:?})", o.name);
+            let Some(mesh) = self.meshes.get(o.mesh) else {
+                return invalid(what(), format!("refers to mesh {} of {}", o.mesh, self.meshes.len()));
+            };
+            if !o.transform.is_finite() || !o.albedo.is_finite() {
+                return invalid(what(), "transform or albedo is not finite".into());
+            }
+            let b = mesh.bounds().transformed(&o.transform);
+            let reach = b.min.abs().max(b.max.abs()).max_element();
+            let within = reach.is_finite() && reach <= crate::MAX_COORDINATE;
+            if !b.is_empty() && !within {
+                return invalid(
+                    what(),
+                    format!("reaches {reach:e} in world space, beyond ±{:e}", crate::MAX_COORDINATE),
+                );
+            }
+        }
+        for (i, l) in self.lights.iter().enumerate() {
+            let what = || format!("light {i} ({:?})", l.name);
+            let p = l.position;
+            if !p.is_finite() || !l.color.is_finite() || !l.intensity.is_finite() {
+                return invalid(what(), "position, colour or intensity is not finite".into());
+            }
+            if p.w != 0.0 && p.w != 1.0 {
+                return invalid(what(), format!("w = {} (0: directional, 1: point or spot)", p.w));
+            }
+            if p.w == 0.0 && p.truncate() == Vec3::ZERO {
+                return invalid(what(), "a directional light needs a non-zero direction".into());
+            }
+            if p.truncate().abs().max_element() > crate::MAX_COORDINATE {
+                return invalid(what(), format!("position beyond ±{:e}", crate::MAX_COORDINATE));
+            }
+        }
+        let c = &self.camera;
+        let finite = c.position.is_finite() && c.target.is_finite() && c.up.is_finite() && c.fov_y_deg.is_finite();
+        let near_ok = c.near.is_finite() && c.near > 0.0;
+        let far_ok = c.far.is_none_or(|f| f.is_finite() && f > c.near);
+        if !finite || !near_ok || !far_ok {
+            return invalid("camera".into(), "needs finite vectors and 0 < near < far".into());
         }
         Ok(())
     }

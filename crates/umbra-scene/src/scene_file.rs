@@ -12,8 +12,19 @@
 //!
 //! [[mesh]]
 //! name = "floor"
-//! kind = "box"           # plane | box | sphere | cylinder | file
+//! kind = "box"           # plane | box | sphere | cylinder | file | triangles | tree
 //! half = [5.0, 0.05, 5.0]
+//!
+//! [[mesh]]
+//! name = "fin"
+//! kind = "triangles"     # inline geometry, flat-shaded, counter-clockwise fronts
+//! positions = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]
+//! indices = [0, 1, 2]
+//!
+//! [[mesh]]
+//! name = "tree"
+//! kind = "tree"          # the procedural branching tree: depth (default 7, at most 9), seed
+//! depth = 6
 //!
 //! [[mesh]]
 //! name = "bunny"
@@ -26,6 +37,8 @@
 //! rotation_deg = [0.0, 30.0, 0.0]
 //! scale = 10.0           # or [x, y, z]
 //! albedo = [0.8, 0.7, 0.6]
+//! repeat = 1             # optional: that many copies, the i-th moved by i * step
+//! step = [0.0, 0.0, 0.0]
 //!
 //! [[light]]
 //! kind = "point"         # directional | point | spot
@@ -72,6 +85,8 @@ enum MeshSource {
     Sphere { radius: f32, segments: Option<u32>, rings: Option<u32> },
     Cylinder { radius: f32, height: f32, segments: Option<u32> },
     File { path: String },
+    Triangles { positions: Vec<Vec3>, indices: Vec<u32> },
+    Tree { depth: Option<u32>, seed: Option<u64> },
 }
 
 #[derive(Deserialize)]
@@ -92,6 +107,8 @@ struct ObjectEntry {
     albedo: Option<Vec3>,
     casts_shadows: Option<bool>,
     receives_shadows: Option<bool>,
+    repeat: Option<u32>,
+    step: Option<Vec3>,
 }
 
 #[derive(Deserialize)]
@@ -150,11 +167,16 @@ pub fn parse_scene(text: &str, dir: &Path, default_name: &str) -> Result<Scene, 
             Some(Scale::Uniform(s)) => Vec3::splat(s),
             Some(Scale::Axes(v)) => v,
         };
-        let transform = Mat4::from_scale_rotation_translation(scale, rotation, o.translation.unwrap_or(Vec3::ZERO));
-        let obj = scene.add_object(id, transform, o.albedo.unwrap_or(Vec3::splat(0.8)));
-        obj.name = o.name.unwrap_or(o.mesh);
-        obj.casts_shadows = o.casts_shadows.unwrap_or(true);
-        obj.receives_shadows = o.receives_shadows.unwrap_or(true);
+        let name = o.name.unwrap_or(o.mesh);
+        let repeat = o.repeat.unwrap_or(1);
+        for i in 0..repeat {
+            let at = o.translation.unwrap_or(Vec3::ZERO) + o.step.unwrap_or(Vec3::ZERO) * i as f32;
+            let transform = Mat4::from_scale_rotation_translation(scale, rotation, at);
+            let obj = scene.add_object(id, transform, o.albedo.unwrap_or(Vec3::splat(0.8)));
+            obj.name = if repeat > 1 { format!("{name} {i}") } else { name.clone() };
+            obj.casts_shadows = o.casts_shadows.unwrap_or(true);
+            obj.receives_shadows = o.receives_shadows.unwrap_or(true);
+        }
     }
     for l in file.light {
         scene.lights.push(build_light(l)?);
@@ -166,6 +188,9 @@ pub fn parse_scene(text: &str, dir: &Path, default_name: &str) -> Result<Scene, 
     scene.validate().map_err(|e| e.to_string())?;
     Ok(scene)
 }
+
+/// Deepest tree a scene file may ask for (3^9 twigs: about 240 000 triangles).
+const MAX_TREE_DEPTH: u32 = 9;
 
 fn build_mesh(source: &MeshSource, dir: &Path) -> Result<Mesh, String> {
     Ok(match *source {
@@ -185,6 +210,13 @@ fn build_mesh(source: &MeshSource, dir: &Path) -> Result<Mesh, String> {
                 merged.append(&sub.meshes[o.mesh].clone().transformed(o.transform));
             }
             merged
+        }
+        MeshSource::Tree { depth, seed } => crate::procedural::tree(
+            seed.unwrap_or(crate::procedural::TREE_SEED),
+            depth.unwrap_or(7).min(MAX_TREE_DEPTH),
+        ),
+        MeshSource::Triangles { ref positions, ref indices } => {
+            Mesh::with_flat_normals("triangles", positions, indices).map_err(|e| e.to_string())?
         }
     })
 }
@@ -255,5 +287,42 @@ mod tests {
         let e = parse_scene("[[light]]\nkind = \"point\"\n", Path::new("."), "x").unwrap_err();
         assert!(e.contains("position"), "{e}");
         assert!(parse_scene("bogus = 1", Path::new("."), "x").is_err());
+    }
+
+    #[test]
+    fn inline_triangles_and_repeated_objects() {
+        let text = r#"
+            [[mesh]]
+            name = "fin"
+            kind = "triangles"
+            positions = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]
+            indices = [0, 1, 2]
+            [[object]]
+            mesh = "fin"
+            translation = [0, 1, 0]
+            repeat = 3
+            step = [0, 0.5, 0]
+        "#;
+        let s = parse_scene(text, Path::new("."), "x").unwrap();
+        assert_eq!(s.objects.len(), 3);
+        assert_eq!(s.objects[2].transform.w_axis.y, 2.0);
+        assert_eq!(s.objects[1].name, "fin 1");
+        assert_eq!(s.meshes[0].triangle_count(), 1);
+    }
+
+    #[test]
+    fn non_finite_and_huge_coordinates_are_typed_errors() {
+        let mesh = |p: &str| {
+            format!("[[mesh]]\nname = \"m\"\nkind = \"triangles\"\npositions = [[0, 0, 0], [1, 0, 0], {p}]\nindices = [0, 1, 2]\n")
+        };
+        for (p, why) in [("[nan, 1, 0]", "not finite"), ("[0, inf, 0]", "not finite"), ("[0, 1e30, 0]", "beyond")] {
+            let e = parse_scene(&mesh(p), Path::new("."), "x").unwrap_err();
+            assert!(e.contains(why), "{p}: {e}");
+        }
+        let light = "[[light]]\nkind = \"point\"\nposition = [0, nan, 0]\n";
+        assert!(parse_scene(light, Path::new("."), "x").unwrap_err().contains("not finite"));
+        let far = "[[object]]\nmesh = \"m\"\ntranslation = [2e12, 0, 0]\n";
+        let e = parse_scene(&(mesh("[0, 1, 0]") + far), Path::new("."), "x").unwrap_err();
+        assert!(e.contains("world space"), "{e}");
     }
 }

@@ -223,6 +223,115 @@ mod tests {
         }
     }
 
+    /// A far vertex at a finite distance: `K` times its extrusion direction past the vertex
+    /// (the region the tests probe lies well inside, so the truncated volume counts the same).
+    fn finite(adj: &Adjacency, v: VolumeVertex, light: Vec4) -> glam::DVec3 {
+        const K: f64 = 1e4;
+        let a = adj.positions[v.vertex as usize];
+        let p = a.as_dvec3();
+        if v.far {
+            p + extrude(a, light).truncate().as_dvec3() * K
+        } else {
+            p
+        }
+    }
+
+    /// Where the ray `o + t d` (t > 0) crosses triangle `[a, b, c]`: the sign of the crossing
+    /// (+1 leaving through the front side, −1 entering), or 0 for no crossing. Double
+    /// precision Möller–Trumbore.
+    fn crossing(o: glam::DVec3, d: glam::DVec3, [a, b, c]: [glam::DVec3; 3], t_max: f64) -> i32 {
+        let (e1, e2) = (b - a, c - a);
+        let pv = d.cross(e2);
+        let det = e1.dot(pv);
+        if det.abs() < 1e-300 {
+            return 0;
+        }
+        let tv = o - a;
+        let u = tv.dot(pv) / det;
+        let qv = tv.cross(e1);
+        let v = d.dot(qv) / det;
+        let t = e2.dot(qv) / det;
+        if u < 0.0 || v < 0.0 || u + v > 1.0 || t <= 0.0 || t >= t_max {
+            return 0;
+        }
+        if e1.cross(e2).dot(d) > 0.0 {
+            1
+        } else {
+            -1
+        }
+    }
+
+    /// The z-fail stencil count at `q` seen along `d`: back faces behind the surface add one,
+    /// front faces subtract one (the GPU's ops, counted on the CPU).
+    fn zfail_count(adj: &Adjacency, v: &Volume, light: Vec4, q: glam::DVec3, d: glam::DVec3) -> i32 {
+        v.sides.iter().chain(&v.caps).map(|t| crossing(q, d, t.map(|x| finite(adj, x, light)), f64::INFINITY)).sum()
+    }
+
+    /// Triangles of `adj` the segment from `q` to the light crosses (light-facing ones only
+    /// for closed meshes: those are the front cap the count is made of).
+    fn occluders(adj: &Adjacency, light: Vec4, q: glam::DVec3) -> i32 {
+        let lit = facing(adj, light);
+        let (d, t_max) = if light.w == 0.0 {
+            (light.truncate().as_dvec3(), f64::INFINITY)
+        } else {
+            (light.truncate().as_dvec3() - q, 1.0)
+        };
+        adj.triangles
+            .iter()
+            .zip(&lit)
+            .filter(|(t, &l)| !degenerate(t) && (l || !adj.report.closed))
+            .map(|(t, _)| crossing(q, d, t.map(|i| adj.positions[i as usize].as_dvec3()), t_max).abs())
+            .sum()
+    }
+
+    fn point_strategy() -> impl Strategy<Value = glam::DVec3> {
+        (-3.0f64..3.0, -3.0f64..3.0, -3.0f64..3.0).prop_map(|(x, y, z)| glam::DVec3::new(x, y, z))
+    }
+
+    /// Lights outside the meshes' reach (radius 1.5), so no vertex sits on the light.
+    fn outside_light() -> impl Strategy<Value = Vec4> {
+        light_strategy().prop_filter("light clear of the mesh", |l| l.w == 0.0 || l.truncate().length() > 2.0)
+    }
+
+    proptest! {
+        #[test]
+        fn silhouette_edges_of_closed_meshes_form_closed_loops(mesh in closed_mesh(), light in light_strategy()) {
+            let adj = Adjacency::build(&mesh);
+            let edges = silhouette_edges(&adj, &facing(&adj, light));
+            let mut degree: std::collections::HashMap<u32, i64> = Default::default();
+            for [a, b] in &edges {
+                *degree.entry(*a).or_default() += 1;
+                *degree.entry(*b).or_default() -= 1;
+            }
+            // Every vertex is entered as often as it is left: the directed edges decompose
+            // into closed loops.
+            prop_assert!(degree.values().all(|&d| d == 0), "{} edges", edges.len());
+        }
+
+        #[test]
+        fn the_zfail_count_is_the_number_of_casting_faces_towards_the_light(
+            mesh in closed_mesh(),
+            light in outside_light(),
+            holes in prop::option::of(prop::collection::vec(prop::bool::weighted(0.7), 64)),
+            q in point_strategy(),
+            view in point_strategy(),
+        ) {
+            let mut mesh = mesh;
+            if let Some(keep) = holes {
+                mesh.indices = mesh.indices.chunks_exact(3).enumerate().filter(|(i, _)| keep[i % keep.len()]).flat_map(|(_, t)| t.to_vec()).collect();
+            }
+            let adj = Adjacency::build(&mesh);
+            let v = Volume::build(&adj, light);
+            let d = view.normalize_or(glam::DVec3::X);
+            let count = zfail_count(&adj, &v, light, q, d);
+            let expected = occluders(&adj, light, q);
+            // The stencil count along any view ray is the winding number of the volume at the
+            // visible point: one per casting face between it and the light, so it is
+            // non-zero exactly where the point is in shadow.
+            prop_assert_eq!(count, expected, "closed {}, {:?}", adj.report.closed, v.stats);
+        }
+    }
+
     #[test]
     fn a_box_lit_from_above_has_four_silhouette_edges() {
         let adj = Adjacency::build(&primitives::cuboid(Vec3::ONE));

@@ -53,6 +53,10 @@ pub struct ShadowMapReport {
     pub casters: usize,
     /// World units per texel along the map's x and y (orthographic maps: directional lights).
     pub texel_size: Option<[f32; 2]>,
+    /// World-to-clip matrix of each view (one, or six cube faces in +x, −x, +y, −y, +z, −z
+    /// order; Vulkan clip space, depth 0..1): where a world point falls in the map, and how
+    /// large a texel is there.
+    pub view_proj: Vec<glam::Mat4>,
 }
 
 /// A light's silhouette map as rendered in one frame (Sen et al. Table 1's statistics).

@@ -163,6 +163,8 @@ pub struct Renderer {
     overdraw: Option<(Image, Buffer)>,
     /// The G-buffer pass (with `gbuffer`).
     gbuffer: Option<GBufferPass>,
+    /// Command buffers submitted so far.
+    submissions: u64,
 }
 
 /// What identifies a mesh's geometry cheaply enough to check every frame.
@@ -270,10 +272,17 @@ impl Renderer {
             adjacency: Vec::new(),
             overdraw,
             gbuffer,
+            submissions: 0,
         })
     }
 
-    /// The target size.
+    /// Command buffers this renderer has submitted to the GPU so far (a frame whose scene is
+    /// rejected by validation submits none).
+    pub fn submissions(&self) -> u64 {
+        self.submissions
+    }
+
+    /// The target size and settings it was created with.
     pub fn desc(&self) -> RendererDesc {
         self.desc
     }
@@ -286,6 +295,8 @@ impl Renderer {
     /// Renders one frame of `scene` and reads it back.
     pub fn render(&mut self, scene: &Scene) -> RenderResult<Frame> {
         let started = Instant::now();
+        // A typed error, before any GPU work, for non-finite or out-of-range input.
+        scene.validate()?;
         let mut lights = plan_lights(scene)?;
         let aspect = self.desc.width as f32 / self.desc.height as f32;
         let volume_settings = self.desc.shadow_volume;
@@ -356,6 +367,7 @@ impl Renderer {
                 far: views.far,
                 casters: views.casters.len(),
                 texel_size: (light.position.w == 0.0).then(|| frustum::texel_size(views.views[0], resolution)),
+                view_proj: views.views.clone(),
             });
             if silhouette {
                 self.silhouette_map.prepare(&self.ctx, plan.light, resolution)?;
@@ -596,6 +608,7 @@ impl Renderer {
                 }
                 timer.end(&mut rec, &log);
                 // The volumes to draw depend on the answers: read them before going on.
+                self.submissions += 1;
                 self.ctx.submit_and_wait(rec)?;
                 let visible = queries.results()?;
                 culling.apply(&visible, &mut built);
@@ -803,6 +816,7 @@ impl Renderer {
         rec.transition(&[(&self.color, ImageState::ColorAttachment, ImageState::TransferSrc)]);
         rec.copy_image_to_buffer(&self.color, 0, &self.readback);
         timer.end(&mut rec, &log);
+        self.submissions += 1;
         self.ctx.submit_and_wait(rec)?;
 
         let passes = timer.finish(log)?;

@@ -1,0 +1,140 @@
+//! The hard-case conformance suite (`tests/hard-cases/*.toml`, judged by
+//! `umbra-conformance`): one test per case, every technique, on the device `UMBRA_DEVICE`
+//! names, with the validation layer on. `ci/test.sh` runs it on lavapipe and SwiftShader;
+//! `bash ci/hard-cases.sh` writes the table of both to `docs/hard-cases.md`.
+
+mod common;
+
+use std::path::PathBuf;
+use umbra::scene::{Light, Scene};
+use umbra::shadows::{RenderError, Renderer, RendererDesc};
+use umbra_conformance::{run_case, CaseRun, Verdict};
+
+fn cases_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/hard-cases")
+}
+
+/// Runs case `file` on the suite's device, prints every verdict, saves its picture, and fails
+/// on any non-conformant verdict.
+fn conformant(file: &str) -> CaseRun {
+    let case = umbra_conformance::case(file).unwrap_or_else(|| panic!("no case {file}"));
+    common::with_context(|ctx| {
+        let caps = ctx.capabilities();
+        let run = run_case(ctx, &cases_dir(), case, common::SIZE).expect("case runs");
+        println!("{} on {}: {}", run.case, run.device, run.why);
+        if let Some(e) = &run.typed_error {
+            println!("  typed error: {e}");
+        }
+        for t in &run.techniques {
+            let j = t.judgement.as_ref();
+            println!(
+                "  {:<15} {:?}  compared {} shadowed {} wrong {} (seam {}, texel band {}, unexplained {}) {}",
+                t.technique.name(),
+                t.verdict,
+                j.map_or(0, |j| j.compared),
+                j.map_or(0, |j| j.shadowed),
+                j.map_or(0, |j| j.wrong),
+                j.map_or(0, |j| j.seam),
+                j.map_or(0, |j| j.texel_band),
+                j.map_or(0, |j| j.unexplained()),
+                t.notes.join("; ")
+            );
+            if let Some(j) = j.filter(|j| !j.unexplained_at.is_empty()) {
+                println!("    unexplained (light, x, y): {:?}", j.unexplained_at);
+            }
+        }
+        if !caps.depth_bounds && run.techniques.iter().any(|t| t.technique == umbra::scene::Technique::Hybrid) {
+            println!(
+                "  SKIPPED on {}: the hybrid's depth-bounds mask (no depthBounds feature; the stencil mask ran instead). SwiftShader covers it.",
+                caps.device_name
+            );
+        }
+        if !run.techniques.is_empty() {
+            let picture = common::output_dir("hard_cases").join(format!("{}.png", run.case));
+            umbra_conformance::report::save_picture(&run, &picture).expect("picture");
+        }
+        let failures: Vec<String> = std::iter::once((&run.verdict, "case"))
+            .chain(run.techniques.iter().map(|t| (&t.verdict, t.technique.name())))
+            .filter(|(v, _)| matches!(v, Verdict::Fail(_)))
+            .map(|(v, what)| format!("{what}: {v:?}"))
+            .collect();
+        assert!(failures.is_empty(), "{file}: {failures:#?}");
+        run
+    })
+}
+
+macro_rules! hard_case {
+    ($($name:ident => $file:literal,)*) => {
+        $(
+            #[test]
+            fn $name() {
+                conformant($file);
+            }
+        )*
+        /// Every case in the table has a test here.
+        #[test]
+        fn every_case_has_a_test() {
+            let tested = [$($file),*];
+            for c in umbra_conformance::CASES {
+                assert!(tested.contains(&c.file), "{} has no test", c.file);
+            }
+            assert_eq!(tested.len(), umbra_conformance::CASES.len());
+        }
+    };
+}
+
+hard_case! {
+    case_01_eye_inside_volume => "01-eye-inside-volume",
+    case_02_near_plane_slices_volume => "02-near-plane-slices-volume",
+    case_03_light_inside_open_container => "03-light-inside-open-container",
+    case_04_grazing_directional_light => "04-grazing-directional-light",
+    case_05_light_touching_occluder => "05-light-touching-occluder",
+    case_06_light_in_caster_plane => "06-light-in-caster-plane",
+    case_07_huge_coordinates => "07-huge-coordinates",
+    case_08_300_overlapping_volumes => "08-300-overlapping-volumes",
+    case_09_zero_area_and_needles => "09-zero-area-and-needles",
+    case_10_duplicated_vertices_t_junctions => "10-duplicated-vertices-t-junctions",
+    case_11_open_meshes => "11-open-meshes",
+    case_12_non_manifold_edges => "12-non-manifold-edges",
+    case_13_coplanar_faces => "13-coplanar-faces",
+    case_14_grazing_light_on_receiver => "14-grazing-light-on-receiver",
+    case_15_caster_smaller_than_a_texel => "15-caster-smaller-than-a-texel",
+    case_16_thin_geometry_tree => "16-thin-geometry-tree",
+    case_17_silhouette_through_texel_corners => "17-silhouette-through-texel-corners",
+    case_18_two_silhouettes_in_one_texel => "18-two-silhouettes-in-one-texel",
+    case_19_dueling_frusta => "19-dueling-frusta",
+    case_20_eight_mixed_lights => "20-eight-mixed-lights",
+    case_21_non_finite_mesh => "21-non-finite-mesh",
+}
+
+/// Case 21 through the API: a scene built in code with a NaN or infinite vertex, a vertex at
+/// 1e30, an infinite transform or a NaN light is a typed `RenderError::Scene` before any GPU
+/// work (the renderer submits nothing), and the same renderer then renders a valid scene.
+#[test]
+fn non_finite_and_huge_input_is_a_typed_error_before_any_gpu_work() {
+    let valid = umbra::scene::load("cubes").expect("cubes");
+    type Break = fn(&mut Scene);
+    let cases: [(&str, Break); 5] = [
+        ("NaN vertex", |s| s.meshes[0].positions[0].y = f32::NAN),
+        ("infinite vertex", |s| s.meshes[0].positions[1].x = f32::INFINITY),
+        ("vertex at 1e30", |s| s.meshes[0].positions[2].z = 1e30),
+        ("infinite transform", |s| s.objects[0].transform.w_axis.x = f32::INFINITY),
+        ("NaN light", |s| s.lights.push(Light::point(glam::Vec3::new(0.0, f32::NAN, 0.0), 1.0))),
+    ];
+    common::with_context(|ctx| {
+        let mut desc = RendererDesc::new(common::SIZE.0, common::SIZE.1);
+        desc.diagnostics = true;
+        let mut renderer = Renderer::new(ctx, desc).expect("renderer");
+        for (what, break_it) in cases {
+            let mut scene = valid.clone();
+            break_it(&mut scene);
+            match renderer.render(&scene) {
+                Err(e @ RenderError::Scene(_)) => println!("{what}: {e}"),
+                other => panic!("{what}: expected a typed scene error, got {:?}", other.map(|_| "a frame")),
+            }
+            assert_eq!(renderer.submissions(), 0, "{what}: GPU work was submitted");
+        }
+        renderer.render(&valid).expect("a valid scene still renders");
+        assert!(renderer.submissions() > 0);
+    });
+}
