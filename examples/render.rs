@@ -18,16 +18,24 @@ use umbra::shadows::{Renderer, RendererDesc};
 struct Args {
     #[command(flatten)]
     common: common::CommonArgs,
-    /// Use this technique for every light: unshadowed, shadow_map or shadow_volume.
+    /// Use this technique for every light: unshadowed, shadow_map, shadow_volume,
+    /// silhouette_map, hybrid or auto.
     #[arg(long, value_parser = parse_technique)]
     technique: Option<Technique>,
 }
 
 fn parse_technique(s: &str) -> Result<Technique, String> {
-    [Technique::Unshadowed, Technique::ShadowMap, Technique::ShadowVolume, Technique::SilhouetteMap, Technique::Hybrid]
-        .into_iter()
-        .find(|t| t.name() == s)
-        .ok_or_else(|| format!("{s:?}: expected unshadowed, shadow_map, shadow_volume, silhouette_map or hybrid"))
+    [
+        Technique::Unshadowed,
+        Technique::ShadowMap,
+        Technique::ShadowVolume,
+        Technique::SilhouetteMap,
+        Technique::Hybrid,
+        Technique::Auto,
+    ]
+    .into_iter()
+    .find(|t| t.name() == s)
+    .ok_or_else(|| format!("{s:?}: expected unshadowed, shadow_map, shadow_volume, silhouette_map, hybrid or auto"))
 }
 
 fn main() -> anyhow::Result<()> {

@@ -19,8 +19,12 @@ fn render_and_check(renderer: &mut Renderer, spec: &str, stem: &str) {
     frame.save_png(&common::output_dir("scenes").join(format!("{stem}.png"))).unwrap();
     assert!(covered > 0.05, "{spec}: only {:.1}% of pixels differ from the background", covered * 100.0);
     assert!(!frame.rgba.chunks_exact(4).any(|p| p == [0xCD; 4]), "{spec}: poisoned readback bytes survived");
-    let lit = frame.report.lights.iter().filter(|l| l.recorded).count();
-    assert_eq!(frame.report.passes.len(), 2 + lit, "{spec}: ambient + one pass per light + readback");
+    // Ambient, readback, and every other pass belongs to a light, which has a lighting pass.
+    let per_light: usize = frame.report.lights.iter().map(|l| l.passes.len()).sum();
+    assert_eq!(frame.report.passes.len(), 2 + per_light, "{spec}: ambient + each light's passes + readback");
+    for l in frame.report.lights.iter().filter(|l| l.recorded) {
+        assert!(l.passes.iter().any(|p| p.starts_with("light ")), "{spec}: light {} has no lighting pass", l.light);
+    }
 }
 
 #[test]

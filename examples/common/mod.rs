@@ -5,7 +5,7 @@ use std::path::PathBuf;
 /// The flags every example takes.
 #[derive(clap::Args, Debug)]
 pub struct CommonArgs {
-    /// A procedural scene (cylinder, ball, cubes, cage, tree, pins), a .toml scene file or a
+    /// A procedural scene (cylinder, ball, cubes, cage, tree, pins, plaza), a .toml scene file or a
     /// .glb/.gltf path.
     #[arg(long, default_value = "cubes")]
     pub scene: String,

@@ -14,7 +14,7 @@ struct Object {
 // w = 1 point or spot.
 struct Light {
     vec4 position;
-    vec4 radiance;       // rgb = colour * intensity
+    vec4 radiance;       // rgb = colour * intensity, w = range (0: unbounded)
     vec4 spot_direction; // xyz = axis the spot shines along, w = cos(outer angle)
     vec4 spot_params;    // x = cos(inner angle), y = 1 for a spot light,
                          // z = shadow kind (SHADOW_NONE, SHADOW_2D, SHADOW_CUBE,

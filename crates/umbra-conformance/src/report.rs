@@ -24,6 +24,7 @@ pub fn short(t: Technique) -> &'static str {
         Technique::ShadowVolume => "SV",
         Technique::Hybrid => "hybrid",
         Technique::Unshadowed => "none",
+        Technique::Auto => "auto",
     }
 }
 

@@ -117,11 +117,14 @@ pub fn towards(light: Vec4, p: Vec3) -> (Vec3, f32) {
     }
 }
 
-/// Whether `light` reaches surface `s` at all: it faces the light and lies inside a spot's
-/// outer cone. The lighting passes decide the same with the interpolated normal; the comparison
+/// Whether `light` reaches surface `s` at all: it faces the light, lies within its range and
+/// inside a spot's outer cone. The lighting passes decide the same with the interpolated normal; the comparison
 /// only counts pixels both call reached.
 fn reaches(light: &Light, s: &Surface, dir: Vec3) -> bool {
     if s.normal.dot(dir) <= 0.0 {
+        return false;
+    }
+    if light.bounded_range().is_some_and(|r| s.position.distance(light.position.truncate()) >= r) {
         return false;
     }
     match light.spot {
@@ -130,10 +133,14 @@ fn reaches(light: &Light, s: &Surface, dir: Vec3) -> bool {
     }
 }
 
-/// Inverse-square falloff for point and spot lights, times a spot's smooth cone (as
-/// `shaders-glsl/forward/lambert.glsl`).
+/// Inverse-square falloff for point and spot lights, the range window and a spot's smooth cone
+/// (as `shaders-glsl/forward/lambert.glsl`).
 fn falloff(light: &Light, dir: Vec3, distance: f32) -> f32 {
     let mut f = if light.position.w == 0.0 { 1.0 } else { 1.0 / (distance * distance) };
+    if let Some(range) = light.bounded_range() {
+        let q = (distance / range).powi(4);
+        f *= (1.0 - q).clamp(0.0, 1.0).powi(2);
+    }
     if let Some(spot) = light.spot {
         let (outer, inner) = (spot.outer_deg.to_radians().cos(), spot.inner_deg.to_radians().cos());
         let t = (((-dir).dot(spot.direction.normalize()) - outer) / (inner - outer)).clamp(0.0, 1.0);

@@ -145,6 +145,7 @@ fn read_light(light: &gltf::khr_lights_punctual::Light, world: Mat4) -> Light {
         }
     };
     l.color = Vec3::from(light.color());
+    l.range = light.range();
     l.name = light.name().unwrap_or("light").to_owned();
     l
 }

@@ -18,6 +18,10 @@ pub enum Technique {
     SilhouetteMap,
     /// Shadow volumes only at shadow-map silhouette pixels (Chan–Durand).
     Hybrid,
+    /// Chosen per frame by the renderer's planner from what the frame needs: the shadow map
+    /// when its texels project no larger than a pixel on every visible receiver
+    /// (Stamminger–Drettakis' ratio, Chan–Durand §6.3), the hybrid otherwise.
+    Auto,
 }
 
 impl Technique {
@@ -29,6 +33,7 @@ impl Technique {
             Technique::ShadowVolume => "shadow_volume",
             Technique::SilhouetteMap => "silhouette_map",
             Technique::Hybrid => "hybrid",
+            Technique::Auto => "auto",
         }
     }
 }
@@ -59,7 +64,9 @@ pub enum LightKind {
 /// A light: a homogeneous position, an optional spot cone, colour and intensity.
 ///
 /// For a directional light `position.xyz` points **towards** the light (OpenGL's convention).
-/// Point and spot radiance falls off with the squared distance.
+/// Point and spot radiance falls off with the squared distance; with a `range` it is also
+/// windowed to exactly zero at that distance (glTF `KHR_lights_punctual`'s recommended window,
+/// `clamp(1 − (d/range)⁴, 0, 1)²`), so the renderer can skip everything beyond it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Light {
     /// Name (from glTF, the scene file or the generator).
@@ -77,6 +84,9 @@ pub struct Light {
     /// Shadow-map resolution for this light (texels per side), overriding the renderer's
     /// default.
     pub shadow_map_size: Option<u32>,
+    /// Distance beyond which a point or spot light adds exactly nothing (`None`: unbounded;
+    /// ignored for directional lights).
+    pub range: Option<f32>,
 }
 
 impl Light {
@@ -107,7 +117,19 @@ impl Light {
             intensity,
             technique: Technique::default(),
             shadow_map_size: None,
+            range: None,
         }
+    }
+
+    /// The same light, bounded to `range` world units (point and spot lights).
+    pub fn with_range(self, range: f32) -> Self {
+        Self { range: Some(range), ..self }
+    }
+
+    /// Its range when it has one and is not directional: the radius of the sphere outside
+    /// which it adds nothing.
+    pub fn bounded_range(&self) -> Option<f32> {
+        self.range.filter(|_| self.position.w != 0.0)
     }
 
     /// The kind, from w and the cone.

@@ -3,6 +3,9 @@
 //! of cubes above a floor and walls), `cage` (bars around a blob, ~12k), `tree` (~40k
 //! triangles of thin branches) and `pins` (ten bowling pins of 450 triangles, Sen's STRIKE).
 //! Each is lit by one point light and seen by a camera facing the light, as in the papers.
+//! `plaza` is the frame planner's scene (issue #9): eight groups of pillars in a ring, each
+//! under its own bounded light (every technique and `auto` among them), seen by a camera that
+//! frames two of the groups, so only two lights can change the image.
 
 use crate::error::{SceneError, SceneResult};
 use crate::primitives::{cuboid, cylinder, cylinder_between, displaced_sphere, lathe, sphere};
@@ -11,7 +14,7 @@ use glam::{Mat4, Quat, Vec2, Vec3};
 use std::f32::consts::TAU;
 
 /// Names accepted by [`build`].
-pub const NAMES: &[&str] = &["cylinder", "ball", "cubes", "cage", "tree", "pins"];
+pub const NAMES: &[&str] = &["cylinder", "ball", "cubes", "cage", "tree", "pins", "plaza"];
 
 /// Builds the procedural scene `name`.
 pub fn build(name: &str) -> SceneResult<Scene> {
@@ -22,6 +25,7 @@ pub fn build(name: &str) -> SceneResult<Scene> {
         "cage" => cage_scene(),
         "tree" => tree_scene(),
         "pins" => pins_scene(),
+        "plaza" => plaza_scene(),
         _ => return Err(SceneError::UnknownScene(name.to_owned())),
     };
     scene.validate()?;
@@ -65,6 +69,52 @@ fn add(scene: &mut Scene, mut mesh: Mesh, name: &str, transform: Mat4, albedo: V
     mesh.name = name.into();
     let id = scene.add_mesh(mesh);
     scene.add_object(id, transform, albedo).name = name.into();
+}
+
+/// Eight pillar groups on a ring of radius 14, each under a light of range 5 three units
+/// above it; the camera frames groups 1 and 2 (at 45° and 90°).
+fn plaza_scene() -> Scene {
+    use crate::Technique;
+    let mut s = Scene::new("plaza");
+    add_floor(&mut s, 20.0);
+    let techniques = [
+        Technique::ShadowMap,
+        Technique::ShadowVolume,
+        Technique::Hybrid,
+        Technique::SilhouetteMap,
+        Technique::Auto,
+        Technique::ShadowVolume,
+        Technique::ShadowMap,
+        Technique::Hybrid,
+    ];
+    let pillar = cuboid(Vec3::new(0.25, 1.0, 0.25));
+    let mut rng = Rng(0x2545_F491_4F6C_DD1D);
+    for (k, &technique) in techniques.iter().enumerate() {
+        let angle = k as f32 * TAU / 8.0;
+        let centre = Vec3::new(angle.cos(), 0.0, angle.sin()) * 14.0;
+        let mut group = Mesh::default();
+        for _ in 0..5 {
+            let at = centre + Vec3::new(rng.range(-1.8, 1.8), 1.0, rng.range(-1.8, 1.8));
+            let turn = Mat4::from_rotation_translation(Quat::from_rotation_y(rng.range(0.0, TAU)), at);
+            group.append(&pillar.clone().transformed(turn));
+        }
+        group.append(&sphere(0.5, 24, 12).transformed(Mat4::from_translation(centre + Vec3::new(0.0, 2.6, 0.0))));
+        add(&mut s, group, &format!("group {k}"), Mat4::IDENTITY, Vec3::new(0.8, 0.6, 0.35));
+        let position = centre + Vec3::new(1.0, 4.0, 0.5);
+        // Odd groups get spots (silhouette maps need one), even ones point lights.
+        let mut l = if k % 2 == 1 || technique == Technique::SilhouetteMap {
+            Light::spot(position, centre - position, 40.0, 55.0, 16.0)
+        } else {
+            Light::point(position, 16.0)
+        };
+        l.range = Some(7.0);
+        l.technique = technique;
+        l.name = format!("lamp {k}");
+        s.lights.push(l);
+    }
+    s.ambient = Vec3::splat(0.08);
+    s.camera = Camera::look_at(Vec3::new(2.0, 9.0, 2.0), Vec3::new(6.0, 0.0, 11.0));
+    s
 }
 
 fn cylinder_scene() -> Scene {

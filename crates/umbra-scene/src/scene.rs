@@ -178,6 +178,9 @@ impl Scene {
             if p.truncate().abs().max_element() > crate::MAX_COORDINATE {
                 return invalid(what(), format!("position beyond ±{:e}", crate::MAX_COORDINATE));
             }
+            if let Some(r) = l.range.filter(|r| !(r.is_finite() && *r > 0.0)) {
+                return invalid(what(), format!("range {r} (must be finite and > 0)"));
+            }
         }
         let c = &self.camera;
         let finite = c.position.is_finite() && c.target.is_finite() && c.up.is_finite() && c.fov_y_deg.is_finite();

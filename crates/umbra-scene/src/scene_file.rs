@@ -44,7 +44,8 @@
 //! kind = "point"         # directional | point | spot
 //! position = [2.0, 6.0, 1.0]
 //! intensity = 40.0
-//! technique = "shadow_map"   # unshadowed | shadow_map | …
+//! technique = "shadow_map"   # unshadowed | shadow_map | shadow_volume | silhouette_map | hybrid | auto
+//! range = 12.0            # optional (point, spot): adds exactly nothing beyond this distance
 //! shadow_map_size = 2048      # optional, overrides the renderer's default
 //! ```
 
@@ -132,6 +133,7 @@ struct LightEntry {
     intensity: Option<f32>,
     technique: Option<Technique>,
     shadow_map_size: Option<u32>,
+    range: Option<f32>,
 }
 
 /// Loads a TOML scene file; mesh `path`s are relative to the file's folder.
@@ -241,6 +243,7 @@ fn build_light(l: LightEntry) -> Result<Light, String> {
     light.color = l.color.unwrap_or(Vec3::ONE);
     light.technique = l.technique.unwrap_or_default();
     light.shadow_map_size = l.shadow_map_size;
+    light.range = l.range;
     light.name = l.name.unwrap_or_default();
     Ok(light)
 }

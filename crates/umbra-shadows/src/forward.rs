@@ -16,12 +16,79 @@ use umbra_vk::{
     Recorder, StencilFace,
 };
 
+/// Where a bounded light's passes may draw (`LightPlan::scissor`, `LightPlan::depth_bounds`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct PassBounds {
+    pub scissor: Option<[u32; 4]>,
+    pub depth: Option<[f32; 2]>,
+}
+
+impl PassBounds {
+    /// Sets the scissor and, for a pipeline with the depth-bounds test, the bounds.
+    pub fn apply(&self, rec: &mut Recorder<'_>, depth_tested: bool) {
+        if let Some(rect) = self.scissor {
+            rec.set_scissor(rect);
+        }
+        if let (Some([min, max]), true) = (self.depth, depth_tested) {
+            rec.set_depth_bounds(min, max);
+        }
+    }
+}
+
+/// A pipeline and, when the device has `depthBounds` and the renderer culls, its twin with the
+/// depth-bounds test on (for bounded lights).
+pub(crate) struct Bounded {
+    plain: GraphicsPipeline,
+    bounded: Option<GraphicsPipeline>,
+}
+
+impl Bounded {
+    /// Builds `desc`, and its depth-bounds twin when `depth_bounds`.
+    pub fn new(
+        ctx: &Context,
+        layout: &PipelineLayout,
+        desc: &GraphicsPipelineDesc<'_>,
+        depth_bounds: bool,
+    ) -> RenderResult<Self> {
+        let plain = GraphicsPipeline::new(ctx, layout, desc)?;
+        let bounded = if depth_bounds {
+            let name = format!("{} (depth bounds)", desc.name);
+            let mut twin = *desc;
+            twin.name = &name;
+            twin.depth.bounds_test = true;
+            Some(GraphicsPipeline::new(ctx, layout, &twin)?)
+        } else {
+            None
+        };
+        Ok(Self { plain, bounded })
+    }
+
+    /// Binds the pipeline `bounds` calls for and sets its scissor and bounds.
+    pub fn bind<'a>(&'a self, rec: &mut Recorder<'a>, bounds: PassBounds) {
+        match (&self.bounded, bounds.depth) {
+            (Some(p), Some(_)) => {
+                rec.bind_pipeline(p);
+                bounds.apply(rec, true);
+            }
+            _ => {
+                rec.bind_pipeline(&self.plain);
+                bounds.apply(rec, false);
+            }
+        }
+    }
+
+    /// The pipeline without bounds.
+    pub fn plain(&self) -> &GraphicsPipeline {
+        &self.plain
+    }
+}
+
 /// The forward pipelines.
 pub(crate) struct Forward {
     ambient: GraphicsPipeline,
-    light: GraphicsPipeline,
+    light: Bounded,
     /// The light pass of shadow-volume lights: lit only where the stencil count is 0.
-    light_stenciled: GraphicsPipeline,
+    light_stenciled: Bounded,
     /// The light pass writing each pixel's class instead of light (with diagnostics).
     classes: Option<GraphicsPipeline>,
 }
@@ -35,6 +102,7 @@ impl Forward {
         depth_format: vk::Format,
         shadow: &ShadowMapSettings,
         diagnostics: bool,
+        depth_bounds: bool,
     ) -> RenderResult<Self> {
         let ambient_frag = umbra_shaders::forward::AMBIENT_FRAG;
         let mut desc = surface_pass_desc("forward ambient + depth", ambient_frag, depth_format, &[]);
@@ -49,11 +117,11 @@ impl Forward {
             surface_pass_desc("forward light (additive)", umbra_shaders::forward::LIGHT_FRAG, depth_format, &spec);
         let additive = [ColorTarget { blend: Some(Blend::ADDITIVE), ..ColorTarget::opaque(color_format) }];
         desc.color_targets = &additive;
-        let light = GraphicsPipeline::new(ctx, layout, &desc)?;
+        let light = Bounded::new(ctx, layout, &desc, depth_bounds)?;
         desc.name = "forward light (additive, stencil == 0)";
         let zero = StencilFace { compare: vk::CompareOp::EQUAL, write_mask: 0, ..StencilFace::KEEP };
         desc.stencil = Some((zero, zero));
-        let light_stenciled = GraphicsPipeline::new(ctx, layout, &desc)?;
+        let light_stenciled = Bounded::new(ctx, layout, &desc, depth_bounds)?;
         let classes = if diagnostics {
             let [filter, outside] = spec;
             let spec = [filter, outside, (2, 1)];
@@ -85,7 +153,8 @@ impl Forward {
     }
 
     /// Draws every object lit by light `light`, whose shadow maps `shadow_set` binds (inside an
-    /// open rendering pass). With `stenciled`, only where the stencil holds 0 (shadow volumes).
+    /// open rendering pass), within `bounds`. With `stenciled`, objects that receive shadows
+    /// only where the stencil holds 0 (shadow volumes); the others are lit unshadowed.
     #[allow(clippy::too_many_arguments)]
     pub fn record_light<'a>(
         &'a self,
@@ -96,16 +165,21 @@ impl Forward {
         scene: &Scene,
         light: u32,
         stenciled: bool,
+        bounds: PassBounds,
         log: &mut PassLog,
     ) {
         if stenciled {
-            rec.bind_pipeline(&self.light_stenciled);
+            self.light_stenciled.bind(rec, bounds);
             rec.set_stencil_reference(0);
-        } else {
-            rec.bind_pipeline(&self.light);
+            rec.bind_descriptor_set(layout, 1, shadow_set);
+            draw_objects_where(rec, layout, gpu, scene, light, log, |o| o.receives_shadows);
+            if scene.objects.iter().all(|o| o.receives_shadows) {
+                return;
+            }
         }
+        self.light.bind(rec, bounds);
         rec.bind_descriptor_set(layout, 1, shadow_set);
-        draw_objects(rec, layout, gpu, scene, light, log);
+        draw_objects_where(rec, layout, gpu, scene, light, log, |o| !stenciled || !o.receives_shadows);
     }
 
     /// Draws every object's class under light `light` (inside an open rendering pass with one
@@ -163,10 +237,27 @@ pub(crate) fn draw_objects<'a>(
     light: u32,
     log: &mut PassLog,
 ) {
+    draw_objects_where(rec, layout, gpu, scene, light, log, |_| true);
+}
+
+/// Draws the objects `keep` accepts with the bound pipeline, light index `light` in the push
+/// constants.
+fn draw_objects_where<'a>(
+    rec: &mut Recorder<'a>,
+    layout: &'a PipelineLayout,
+    gpu: &'a GpuScene,
+    scene: &Scene,
+    light: u32,
+    log: &mut PassLog,
+    keep: impl Fn(&umbra_scene::Object) -> bool,
+) {
     rec.bind_descriptor_set(layout, 0, &gpu.set);
     rec.bind_vertex_buffer(&gpu.vertices);
     rec.bind_index_buffer(&gpu.indices);
     for (i, o) in scene.objects.iter().enumerate() {
+        if !keep(o) {
+            continue;
+        }
         let Some(m) = gpu.meshes.get(o.mesh) else { continue };
         if m.index_count == 0 {
             continue;

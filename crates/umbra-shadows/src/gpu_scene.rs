@@ -153,7 +153,7 @@ impl GpuScene {
                     l.spot.unwrap_or(umbra_scene::Spot { direction: -Vec3::Y, inner_deg: 180.0, outer_deg: 180.0 });
                 GpuLight {
                     position: l.position.to_array(),
-                    radiance: l.radiance().extend(0.0).to_array(),
+                    radiance: l.radiance().extend(l.bounded_range().unwrap_or(0.0)).to_array(),
                     spot_direction: spot.direction.extend(spot.outer_deg.to_radians().cos()).to_array(),
                     spot_params: [
                         spot.inner_deg.to_radians().cos(),

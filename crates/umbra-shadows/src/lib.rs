@@ -18,6 +18,7 @@ mod gbuffer;
 mod gpu_scene;
 pub mod hybrid;
 pub mod plan;
+mod reach;
 mod renderer;
 mod report;
 pub mod shadow_map;
@@ -28,7 +29,10 @@ mod timing;
 pub use diagnostics::{GBuffer, LightDiagnostics, PixelClass, SilhouetteMapImage};
 pub use error::{RenderError, RenderResult};
 pub use hybrid::{HybridSettings, MaskKind};
-pub use plan::{CasterMode, HybridReport, LightPlan, ShadowMapReport, ShadowVolumeReport, SilhouetteMapReport};
+pub use plan::{
+    CasterMode, CullReason, Culled, FramePlan, HybridReport, LightPlan, ShadowMapReport, ShadowVolumeReport,
+    SilhouetteMapReport,
+};
 pub use renderer::{Frame, Renderer, RendererDesc, COLOR_FORMAT};
 pub use report::{FrameReport, SceneSummary};
 pub use shadow_map::{DepthBias, ShadowFilter, ShadowMapSettings};

@@ -1,14 +1,108 @@
-//! The frame plan: what each light needs this frame, decided from the scene before anything
-//! is recorded. Work that cannot change the image (a light with zero radiance, a scene with
-//! nothing to light) is not recorded, and the report says why.
+//! The frame plan (issue #9): what each light needs this frame, decided from the scene and
+//! the camera before anything is recorded. Nothing that cannot change the image is recorded,
+//! and the report says what was left out and why:
 //!
-//! This is the seam where shadow techniques plug in: each light carries the technique the
-//! scene asked for, and the renderer records that technique's passes for it.
+//! 1. a light with zero radiance, whose range misses the view frustum, or that reaches no
+//!    visible object records no pass at all;
+//! 2. a light whose technique is `unshadowed`, with no visible receiver that receives shadows,
+//!    or with no caster able to shadow one, records its lighting pass only;
+//! 3. per caster: objects that do not cast never enter a shadow pass; casters out of the light's
+//!    range or cone cannot shadow anything it lights; a caster whose shadow volume misses the
+//!    view frustum draws nothing (shadow volumes and the hybrid); the renderer then culls map
+//!    casters per view (cube faces) and, with `HybridSettings::cull_blockers`, the hybrid's
+//!    hidden blockers (Chan–Durand §6.3);
+//! 4. a bounded light's scissor rectangle and depth bounds (Lengyel; Everitt & Kilgard 2003;
+//!    McGuire et al., cited in Chan–Durand §2) limit its lighting and stencil passes;
+//! 5. `auto` lights get the shadow map when its texels project no larger than a pixel on every
+//!    visible receiver (Stamminger–Drettakis' ratio, Chan–Durand §6.3), the hybrid otherwise.
+//!
+//! With `RendererDesc::cull` off every light records every pass of its technique over every
+//! caster: the same image, for comparison.
+//!
+//! This is also the seam where shadow techniques plug in: each light carries the technique it
+//! uses, and the renderer records that technique's passes for it.
 
 use crate::hybrid::MaskKind;
+use crate::reach::{self, Clip, Planes, Unreached};
+use crate::shadow_map::frustum;
 use crate::{RenderError, RenderResult};
+use glam::{Mat4, Vec3, Vec4Swizzles};
 use serde::Serialize;
-use umbra_scene::{LightKind, Scene, Technique};
+use umbra_scene::{Aabb, Camera, LightKind, Scene, Technique};
+
+/// Why casters were left out of a light's shadow passes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CullReason {
+    /// The object has `casts_shadows = false`.
+    NotACaster,
+    /// Beyond the light's range: its shadow lies where the light adds nothing.
+    OutsideRange,
+    /// Outside the spot's cone: its shadow lies outside the cone too.
+    OutsideCone,
+    /// Its shadow volume cannot reach the view frustum (shadow volumes, hybrid).
+    VolumeOutsideView,
+    /// Outside one view of the light's shadow map (counted per caster and cube face).
+    OutsideMapView,
+    /// No texel of the hybrid's shadow map sees its bounding box (blocker culling).
+    HiddenBlocker,
+}
+
+/// How many casters one reason left out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct Culled {
+    /// Why.
+    pub reason: CullReason,
+    /// How many (casters, or caster × view pairs for `OutsideMapView`).
+    pub count: usize,
+}
+
+/// Adds `count` under `reason` to a tally.
+pub(crate) fn tally(culled: &mut Vec<Culled>, reason: CullReason, count: usize) {
+    if count == 0 {
+        return;
+    }
+    match culled.iter_mut().find(|c| c.reason == reason) {
+        Some(c) => c.count += count,
+        None => {
+            culled.push(Culled { reason, count });
+            culled.sort_by_key(|c| c.reason);
+        }
+    }
+}
+
+/// The frame's plan in numbers (`FrameReport::plan`); per-light detail is in
+/// `FrameReport::lights`.
+#[derive(Clone, Debug, Serialize)]
+pub struct FramePlan {
+    /// Whether the planner culled (`RendererDesc::cull`).
+    pub culling: bool,
+    /// Lights with at least one pass recorded.
+    pub lights_recorded: usize,
+    /// Lights with no pass at all.
+    pub lights_skipped: usize,
+    /// Lights whose shadow passes were recorded.
+    pub lights_shadowed: usize,
+    /// Casters left out, summed over lights, per reason.
+    pub culled: Vec<Culled>,
+}
+
+impl FramePlan {
+    /// Sums the per-light plans.
+    pub fn of(culling: bool, lights: &[LightPlan]) -> Self {
+        let mut culled = Vec::new();
+        for c in lights.iter().flat_map(|l| &l.culled) {
+            tally(&mut culled, c.reason, c.count);
+        }
+        Self {
+            culling,
+            lights_recorded: lights.iter().filter(|l| l.recorded).count(),
+            lights_skipped: lights.iter().filter(|l| !l.recorded).count(),
+            lights_shadowed: lights.iter().filter(|l| l.shadowed).count(),
+            culled,
+        }
+    }
+}
 
 /// The decision for one light.
 #[derive(Clone, Debug, Serialize)]
@@ -19,12 +113,30 @@ pub struct LightPlan {
     pub name: String,
     /// Directional, point or spot.
     pub kind: LightKind,
-    /// The technique its shadows use.
+    /// The technique the scene asked for.
+    pub requested: Technique,
+    /// The technique its shadows use this frame (`auto` resolved).
     pub technique: Technique,
+    /// Why `auto` chose `technique`.
+    pub auto_choice: Option<String>,
     /// Whether any pass is recorded for it.
     pub recorded: bool,
     /// Why not, when `recorded` is false.
     pub skipped_because: Option<String>,
+    /// Whether its shadow passes are recorded (else it is lit unshadowed, or not at all).
+    pub shadowed: bool,
+    /// Why not, when it is recorded but `shadowed` is false.
+    pub unshadowed_because: Option<String>,
+    /// Casters left out of its shadow passes, per reason.
+    pub culled: Vec<Culled>,
+    /// Scissor rectangle (x, y, width, height; y down) of its lighting and stencil passes,
+    /// when it is bounded and its range sphere stays in front of the camera.
+    pub scissor: Option<[u32; 4]>,
+    /// Depth bounds of its lighting and stencil passes (window depth), with `scissor`, on
+    /// devices with `depthBounds`.
+    pub depth_bounds: Option<[f32; 2]>,
+    /// The passes recorded for it, in order.
+    pub passes: Vec<String>,
     /// The shadow map rendered for it this frame, if any.
     pub shadow_map: Option<ShadowMapReport>,
     /// Its shadow volumes this frame, if any.
@@ -36,6 +148,12 @@ pub struct LightPlan {
     pub hybrid: Option<HybridReport>,
     /// What the renderer decided beyond the plan (e.g. a shadow map not needed this frame).
     pub note: Option<String>,
+    /// Objects that enter its shadow map (nearest-first order is the fitting's).
+    #[serde(skip)]
+    pub(crate) map_casters: Vec<usize>,
+    /// Objects whose shadow volumes it draws.
+    #[serde(skip)]
+    pub(crate) volume_casters: Vec<usize>,
 }
 
 /// A light's shadow map as rendered in one frame.
@@ -140,42 +258,237 @@ pub(crate) const SILHOUETTE_CUBE_UNSUPPORTED: &str =
      wider than 80°) use cube maps, whose silhouette texels would need neighbours across faces; use a spot or \
      directional light, or shadow_map / shadow_volume for this light";
 
+/// What the planner looks at besides the scene.
+pub(crate) struct PlanInput<'a> {
+    /// Each object's world bounds (`Scene::object_bounds`).
+    pub boxes: &'a [Option<Aabb>],
+    /// The camera the frame renders with (far plane at infinity with shadow volumes).
+    pub camera: &'a Camera,
+    /// Target width and height in pixels.
+    pub size: (u32, u32),
+    /// Whether to cull (`RendererDesc::cull`).
+    pub cull: bool,
+    /// Whether the device has `depthBounds`.
+    pub depth_bounds: bool,
+    /// Shadow-map resolution `auto` lights would get (the light's own size wins).
+    pub map_resolution: u32,
+}
+
+/// Widening of range and cone for shadow-map casters: a lookup's filter reads texels beside
+/// it, so casters just outside the lit region stay in the map.
+const MAP_REACH_MARGIN: f32 = 0.05;
+
 /// Decides, per light, what to record.
-pub fn plan_lights(scene: &Scene) -> RenderResult<Vec<LightPlan>> {
+pub(crate) fn plan_frame(scene: &Scene, input: &PlanInput<'_>) -> RenderResult<Vec<LightPlan>> {
+    let (width, height) = input.size;
+    let view_proj = input.camera.view_proj(width as f32 / height as f32);
+    let view = Planes::of(view_proj, Clip::All);
+    let sides = Planes::of(view_proj, Clip::Sides);
+    let visible: Vec<bool> = input.boxes.iter().map(|b| b.as_ref().is_some_and(|b| view.may_hold_box(b))).collect();
     scene
         .lights
         .iter()
         .enumerate()
         .map(|(i, l)| {
-            let skip = if !l.contributes() {
-                Some("zero radiance: cannot change the image")
-            } else if scene.objects.is_empty() {
-                Some("no objects to light")
-            } else {
-                None
-            };
-            if skip.is_none() && l.technique == Technique::SilhouetteMap && l.kind() == LightKind::Point {
-                return Err(RenderError::UnsupportedLight {
-                    light: i,
-                    technique: l.technique,
-                    why: SILHOUETTE_CUBE_UNSUPPORTED.into(),
-                });
-            }
-            Ok(LightPlan {
+            let mut plan = LightPlan {
                 light: i,
                 name: l.name.clone(),
                 kind: l.kind(),
+                requested: l.technique,
                 technique: l.technique,
-                recorded: skip.is_none(),
-                skipped_because: skip.map(str::to_owned),
+                auto_choice: None,
+                recorded: true,
+                skipped_because: None,
+                shadowed: l.technique != Technique::Unshadowed,
+                unshadowed_because: None,
+                culled: Vec::new(),
+                scissor: None,
+                depth_bounds: None,
+                passes: Vec::new(),
                 shadow_map: None,
                 shadow_volume: None,
                 silhouette_map: None,
                 hybrid: None,
                 note: None,
-            })
+                map_casters: Vec::new(),
+                volume_casters: Vec::new(),
+            };
+            let casters: Vec<usize> = (0..scene.objects.len())
+                .filter(|&o| scene.objects[o].casts_shadows && input.boxes.get(o).is_some_and(Option::is_some))
+                .collect();
+            tally(&mut plan.culled, CullReason::NotACaster, scene.objects.iter().filter(|o| !o.casts_shadows).count());
+            if l.technique == Technique::Auto {
+                let (technique, why) = choose_auto(scene, i, input, &view_proj);
+                plan.technique = technique;
+                plan.auto_choice = Some(why);
+            }
+            if plan.technique == Technique::SilhouetteMap && l.kind() == LightKind::Point {
+                return Err(RenderError::UnsupportedLight {
+                    light: i,
+                    technique: plan.technique,
+                    why: SILHOUETTE_CUBE_UNSUPPORTED.into(),
+                });
+            }
+            if !input.cull {
+                plan.map_casters = casters.clone();
+                plan.volume_casters = casters;
+                return Ok(plan);
+            }
+            let reached = |o: usize, margin: f32| {
+                input.boxes.get(o).copied().flatten().map(|b| reach::light_reaches(l, &b, margin))
+            };
+            let lit_in_view: Vec<usize> =
+                (0..scene.objects.len()).filter(|&o| visible[o] && reached(o, 0.0) == Some(Ok(()))).collect();
+            let skip = if !l.contributes() {
+                Some("zero radiance: cannot change the image")
+            } else if scene.objects.is_empty() {
+                Some("no objects to light")
+            } else if !reach::light_may_be_seen(l, &view) {
+                Some("its range misses the view frustum")
+            } else if lit_in_view.is_empty() {
+                Some("reaches no visible object")
+            } else {
+                None
+            };
+            if let Some(why) = skip {
+                plan.recorded = false;
+                plan.shadowed = false;
+                plan.skipped_because = Some(why.into());
+                return Ok(plan);
+            }
+            if let (Some(f), false) =
+                (reach::footprint(l, input.camera, width, height), plan.technique == Technique::Hybrid)
+            {
+                plan.scissor = Some(f.scissor);
+                plan.depth_bounds = input.depth_bounds.then_some(f.depth);
+            }
+            if !plan.shadowed {
+                return Ok(plan);
+            }
+            let mut map_out = Vec::new();
+            for &c in &casters {
+                match reached(c, MAP_REACH_MARGIN) {
+                    Some(Ok(())) => plan.map_casters.push(c),
+                    Some(Err(why)) => map_out.push(why),
+                    None => {}
+                }
+            }
+            let volumes = matches!(plan.technique, Technique::ShadowVolume | Technique::Hybrid);
+            let mut out = Vec::new();
+            for &c in &casters {
+                let Some(b) = input.boxes.get(c).copied().flatten() else { continue };
+                match reach::light_reaches(l, &b, 0.0) {
+                    Err(why) => out.push(match why {
+                        Unreached::Range => CullReason::OutsideRange,
+                        Unreached::Cone => CullReason::OutsideCone,
+                    }),
+                    Ok(()) if !sides.may_hold_sweep(&b, l.position) => out.push(CullReason::VolumeOutsideView),
+                    Ok(()) => plan.volume_casters.push(c),
+                }
+            }
+            let reason = |u: &Unreached| match u {
+                Unreached::Range => CullReason::OutsideRange,
+                Unreached::Cone => CullReason::OutsideCone,
+            };
+            let culled: Vec<CullReason> = if volumes { out } else { map_out.iter().map(reason).collect() };
+            for r in [CullReason::OutsideRange, CullReason::OutsideCone, CullReason::VolumeOutsideView] {
+                tally(&mut plan.culled, r, culled.iter().filter(|&&c| c == r).count());
+            }
+            let receives = lit_in_view.iter().any(|&o| scene.objects[o].receives_shadows);
+            let needed = match plan.technique {
+                Technique::ShadowVolume => &plan.volume_casters,
+                _ => &plan.map_casters,
+            };
+            let unshadowed = if !receives {
+                Some("no visible object it reaches receives shadows")
+            } else if needed.is_empty() {
+                Some("no caster can shadow a visible receiver")
+            } else {
+                None
+            };
+            if let Some(why) = unshadowed {
+                plan.shadowed = false;
+                plan.unshadowed_because = Some(why.into());
+            }
+            Ok(plan)
         })
         .collect()
+}
+
+/// `auto`'s choice for light `light`: the shadow map when a texel of its map projects no larger
+/// than a pixel on every visible receiver (Stamminger–Drettakis: the ratio of a texel's world
+/// size where it lands to a pixel's there, Chan–Durand §6.3), the hybrid otherwise. The ratio
+/// is taken at a grid of points through each receiver's box (those in view and in the light's
+/// reach), ignoring surface orientation.
+fn choose_auto(scene: &Scene, light: usize, input: &PlanInput<'_>, view_proj: &Mat4) -> (Technique, String) {
+    /// Grid points per box side.
+    const SAMPLES: usize = 6;
+    let l = &scene.lights[light];
+    let Some(views) = frustum::fit(l, scene, input.boxes, *view_proj) else {
+        return (Technique::ShadowMap, "shadow_map: no caster can shadow a visible receiver".into());
+    };
+    let resolution = l.shadow_map_size.unwrap_or(input.map_resolution);
+    let cam = input.camera;
+    let forward = (cam.target - cam.position).normalize_or_zero();
+    let pixel_per_depth = 2.0 * (cam.fov_y_deg.to_radians() * 0.5).tan() / input.size.1 as f32;
+    let in_view = |p: Vec3| {
+        let clip = *view_proj * p.extend(1.0);
+        clip.w > cam.near && clip.x.abs() <= clip.w && clip.y.abs() <= clip.w
+    };
+    let mut worst: Option<(f32, usize)> = None;
+    for (o, object) in scene.objects.iter().enumerate() {
+        let Some(b) = input.boxes.get(o).copied().flatten() else { continue };
+        if !object.receives_shadows || reach::light_reaches(l, &b, 0.0).is_err() {
+            continue;
+        }
+        let step = (b.max - b.min) / (SAMPLES - 1) as f32;
+        for i in 0..SAMPLES * SAMPLES * SAMPLES {
+            let (x, y, z) = (i % SAMPLES, i / SAMPLES % SAMPLES, i / (SAMPLES * SAMPLES));
+            let p = b.min + step * Vec3::new(x as f32, y as f32, z as f32);
+            let lit = l.bounded_range().is_none_or(|r| p.distance(l.position.xyz()) < r);
+            if !lit || !in_view(p) {
+                continue;
+            }
+            let Some(texel) = texel_at(&views.views, p, resolution) else { continue };
+            let pixel = (p - cam.position).dot(forward) * pixel_per_depth;
+            let ratio = texel / pixel;
+            if worst.is_none_or(|(w, _)| ratio > w) {
+                worst = Some((ratio, o));
+            }
+        }
+    }
+    match worst {
+        Some((ratio, o)) if ratio > 1.0 => (
+            Technique::Hybrid,
+            format!(
+                "hybrid: a {resolution}² map's texel covers up to {ratio:.2} pixels on {:?} (Stamminger–Drettakis ratio > 1)",
+                scene.objects[o].name
+            ),
+        ),
+        Some((ratio, _)) => (
+            Technique::ShadowMap,
+            format!("shadow_map: a {resolution}² map's texel covers at most {ratio:.2} pixels on every visible receiver"),
+        ),
+        None => (Technique::ShadowMap, "shadow_map: no visible receiver it reaches".into()),
+    }
+}
+
+/// World size of one texel of the map view that holds `p` (across the light's rays, at `p`'s
+/// depth in the map), or `None` when no view holds it.
+fn texel_at(views: &[Mat4], p: Vec3, resolution: u32) -> Option<f32> {
+    views.iter().find_map(|vp| {
+        let clip = *vp * p.extend(1.0);
+        let inside = clip.w > 0.0 && clip.x.abs() <= clip.w && clip.y.abs() <= clip.w;
+        if !inside {
+            return None;
+        }
+        let ndc = clip.xyz() / clip.w;
+        let inv = vp.inverse();
+        let step = 2.0 / resolution as f32;
+        let at = |dx: f32, dy: f32| inv.project_point3(ndc + Vec3::new(dx, dy, 0.0));
+        let o = at(0.0, 0.0);
+        Some(at(step, 0.0).distance(o).max(at(0.0, step).distance(o)))
+    })
 }
 
 #[cfg(test)]
@@ -184,11 +497,17 @@ mod tests {
     use glam::Vec3;
     use umbra_scene::Light;
 
+    fn input(s: &Scene) -> PlanInput<'static> {
+        let boxes: &'static [Option<Aabb>] = Box::leak(s.object_bounds().into_boxed_slice());
+        let camera: &'static Camera = Box::leak(Box::new(s.camera));
+        PlanInput { boxes, camera, size: (256, 192), cull: true, depth_bounds: true, map_resolution: 1024 }
+    }
+
     #[test]
     fn dark_lights_are_planned_out_with_a_reason() {
         let mut s = umbra_scene::procedural::build("ball").unwrap();
         s.lights.push(Light::point(Vec3::ONE, 0.0));
-        let plan = plan_lights(&s).unwrap();
+        let plan = plan_frame(&s, &input(&s)).unwrap();
         assert!(plan[0].recorded);
         assert!(!plan[1].recorded);
         assert!(plan[1].skipped_because.as_deref().unwrap().contains("zero radiance"));
@@ -199,11 +518,44 @@ mod tests {
         let mut s = umbra_scene::procedural::build("ball").unwrap();
         s.lights = vec![Light::point(Vec3::new(0.0, 4.0, 0.0), 10.0)];
         s.lights[0].technique = Technique::SilhouetteMap;
-        let err = plan_lights(&s).unwrap_err();
+        let err = plan_frame(&s, &input(&s)).unwrap_err();
         assert!(matches!(err, RenderError::UnsupportedLight { light: 0, technique: Technique::SilhouetteMap, .. }));
         assert!(err.to_string().contains("cube map"), "{err}");
         s.lights[0] = Light::spot(Vec3::new(0.0, 4.0, 0.0), -Vec3::Y, 20.0, 30.0, 10.0);
         s.lights[0].technique = Technique::SilhouetteMap;
-        assert!(plan_lights(&s).is_ok());
+        assert!(plan_frame(&s, &input(&s)).is_ok());
+    }
+
+    #[test]
+    fn the_plaza_camera_sees_two_of_eight_lights() {
+        let mut s = umbra_scene::procedural::build("plaza").unwrap();
+        s.camera.far = None;
+        let plan = plan_frame(&s, &input(&s)).unwrap();
+        let recorded: Vec<usize> = plan.iter().filter(|l| l.recorded).map(|l| l.light).collect();
+        assert_eq!(recorded, vec![1, 2]);
+        // The shadow-volume spot in view is bounded on screen and in depth.
+        let sv = &plan[1];
+        assert_eq!(sv.technique, Technique::ShadowVolume);
+        let [_, _, w, h] = sv.scissor.expect("a scissor rectangle");
+        assert!(w * h < 256 * 192, "{:?}", sv.scissor);
+        assert!(sv.depth_bounds.is_some_and(|[lo, hi]| 0.0 < lo && lo < hi && hi <= 1.0), "{:?}", sv.depth_bounds);
+        assert!(sv.culled.iter().any(|c| c.reason == CullReason::OutsideRange && c.count == 7), "{:?}", sv.culled);
+        for l in plan.iter().filter(|l| !l.recorded) {
+            assert_eq!(l.skipped_because.as_deref(), Some("its range misses the view frustum"), "{}", l.light);
+        }
+    }
+
+    #[test]
+    fn auto_picks_the_map_when_texels_are_smaller_than_pixels() {
+        let mut s = umbra_scene::procedural::build("ball").unwrap();
+        s.lights[0].technique = Technique::Auto;
+        let mut inp = input(&s);
+        inp.map_resolution = 8192;
+        let fine = plan_frame(&s, &inp).unwrap();
+        assert_eq!(fine[0].technique, Technique::ShadowMap, "{:?}", fine[0].auto_choice);
+        inp.map_resolution = 64;
+        let coarse = plan_frame(&s, &inp).unwrap();
+        assert_eq!(coarse[0].technique, Technique::Hybrid, "{:?}", coarse[0].auto_choice);
+        assert!(coarse[0].auto_choice.as_deref().unwrap().contains("Stamminger"));
     }
 }

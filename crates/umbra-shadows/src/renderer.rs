@@ -1,7 +1,8 @@
 //! The renderer: records a frame's passes into a headless target and reads the colour back.
 //!
 //! A frame, top to bottom:
-//! 1. plan: per light, decide what to record (`plan::plan_lights`), and fit the shadow-map
+//! 1. plan: per light, decide what to record and which casters enter its shadow passes
+//!    (`plan::plan_frame`: nothing that cannot change the image), and fit the shadow-map
 //!    views of the lights that use shadow maps (`shadow_map::frustum`);
 //! 2. upload: the scene's meshes, objects, lights, shadow views and camera (`gpu_scene`);
 //! 3. `ambient`: depth plus ambient term for every object;
@@ -19,13 +20,13 @@
 
 use crate::diagnostics::SilhouetteMapImage;
 use crate::diagnostics::{self, ClassReadback, DiagnosticTargets, GBuffer, LightDiagnostics, PixelClass};
-use crate::forward::Forward;
+use crate::forward::{Forward, PassBounds};
 use crate::gbuffer::GBufferPass;
 use crate::gpu_scene::{self, GpuScene, GpuShadow};
 use crate::hybrid::cull;
 use crate::hybrid::pass::{HybridLight, HybridPass};
 use crate::hybrid::{HybridSettings, MaskKind, DEPTH_BOUNDS_EPSILON};
-use crate::plan::{plan_lights, HybridReport, LightPlan, ShadowMapReport};
+use crate::plan::{plan_frame, tally, CullReason, FramePlan, HybridReport, LightPlan, PlanInput, ShadowMapReport};
 use crate::plan::{CasterMode, ShadowVolumeReport, SilhouetteMapReport, SILHOUETTE_CUBE_UNSUPPORTED};
 use crate::report::{FrameReport, SceneSummary};
 use crate::shadow_map::frustum::{self, LightViews, MapKind};
@@ -75,6 +76,11 @@ pub struct RendererDesc {
     /// Render the G-buffer ([`Frame::gbuffer`]): world position and geometric normal per
     /// pixel, for the exact reference. One diagnostic pass. Off by default.
     pub gbuffer: bool,
+    /// Plan each frame so that nothing that cannot change the image is recorded (lights out of
+    /// view, casters whose shadows cannot be seen, scissor and depth bounds of bounded lights;
+    /// see [`crate::plan`]). On by default; off records every pass of every light over every
+    /// caster, the same image, for comparison (`--no-cull`).
+    pub cull: bool,
 }
 
 impl RendererDesc {
@@ -88,6 +94,7 @@ impl RendererDesc {
             hybrid: HybridSettings::default(),
             diagnostics: false,
             gbuffer: false,
+            cull: true,
         }
     }
 }
@@ -217,12 +224,15 @@ impl Renderer {
         let shadow_set_layout = pass::shadow_set_layout(ctx)?;
         let push = std::mem::size_of::<gpu_scene::DrawPush>() as u32;
         let layout = PipelineLayout::new(ctx, "scene layout", &[&scene_set_layout, &shadow_set_layout], push)?;
-        let forward = Forward::new(ctx, &layout, COLOR_FORMAT, depth_format, &desc.shadow_map, desc.diagnostics)?;
+        // Bounded lights' depth bounds need the test in their pipelines.
+        let bounds = desc.cull && caps.depth_bounds;
+        let forward =
+            Forward::new(ctx, &layout, COLOR_FORMAT, depth_format, &desc.shadow_map, desc.diagnostics, bounds)?;
         let shadow_map = ShadowMapPass::new(ctx, &layout, desc.shadow_map)?;
         if desc.shadow_volume.far_plane == FarPlane::DepthClamp && !caps.depth_clamp {
             return Err(ctx.unsupported("shadow volumes with FarPlane::DepthClamp (depthClamp)").into());
         }
-        let shadow_volume = ShadowVolumePass::new(ctx, &layout, depth_format, &desc.shadow_volume)?;
+        let shadow_volume = ShadowVolumePass::new(ctx, &layout, depth_format, &desc.shadow_volume, bounds)?;
         let silhouette_map = SilhouetteMapPass::new(ctx, &layout, COLOR_FORMAT, depth_format, &desc.shadow_map)?;
         let mask = desc.hybrid.mask.unwrap_or(MaskKind::best_for(caps.depth_bounds));
         if mask == MaskKind::DepthBounds && !caps.depth_bounds {
@@ -297,29 +307,46 @@ impl Renderer {
         let started = Instant::now();
         // A typed error, before any GPU work, for non-finite or out-of-range input.
         scene.validate()?;
-        let mut lights = plan_lights(scene)?;
         let aspect = self.desc.width as f32 / self.desc.height as f32;
         let volume_settings = self.desc.shadow_volume;
-        let uses = |l: &LightPlan, t: Technique| l.recorded && l.technique == t;
-        let uses_volumes = lights.iter().any(|l| uses(l, Technique::ShadowVolume) || uses(l, Technique::Hybrid));
         // Shadow volumes reach infinity: the frame uses P_inf unless depth clamp does the job.
-        let camera_used = if uses_volumes {
+        // Decided from what the scene asks for (`auto` may pick the hybrid), not from the plan,
+        // so that culling never changes the depth buffer.
+        let asks_volumes = scene
+            .lights
+            .iter()
+            .any(|l| matches!(l.technique, Technique::ShadowVolume | Technique::Hybrid | Technique::Auto));
+        let camera_used = if asks_volumes {
             volumes::volume_camera(&scene.camera, volume_settings.far_plane == FarPlane::Infinite)
         } else {
             scene.camera
         };
         let camera = camera_used.view_proj(aspect);
-        // Each object's world bounds, once per frame, for every light's fitting and mode choice.
+        // Each object's world bounds, once per frame, for planning, fitting and mode choice.
         let boxes = scene.object_bounds();
-        if uses_volumes || lights.iter().any(|l| uses(l, Technique::SilhouetteMap)) {
+        let settings = *self.shadow_map.settings();
+        let mut lights = plan_frame(
+            scene,
+            &PlanInput {
+                boxes: &boxes,
+                camera: &camera_used,
+                size: (self.desc.width, self.desc.height),
+                cull: self.desc.cull,
+                depth_bounds: self.desc.cull && self.ctx.capabilities().depth_bounds,
+                map_resolution: settings.resolution,
+            },
+        )?;
+        let uses = |l: &LightPlan, t: Technique| l.recorded && l.technique == t;
+        let shadows = |l: &LightPlan, t: Technique| uses(l, t) && l.shadowed;
+        let uses_volumes = lights.iter().any(|l| shadows(l, Technique::ShadowVolume) || shadows(l, Technique::Hybrid));
+        if uses_volumes || lights.iter().any(|l| shadows(l, Technique::SilhouetteMap)) {
             self.update_adjacency(scene);
         }
         let adjacency: Vec<Arc<Adjacency>> = self.adjacency.iter().map(|(_, a)| Arc::clone(a)).collect();
 
         // Shadow maps (also the depth maps of silhouette maps): fit each light's views, size
         // its map, and note what the GPU reads.
-        let settings = *self.shadow_map.settings();
-        let mut shadows = vec![GpuShadow::default(); scene.lights.len()];
+        let mut gpu_shadows = vec![GpuShadow::default(); scene.lights.len()];
         let mut shadow_views = Vec::new();
         let mut fitted: Vec<Option<LightViews>> = vec![None; scene.lights.len()];
         let mut silhouettes: Vec<Option<LightEdges>> = vec![None; scene.lights.len()];
@@ -328,13 +355,20 @@ impl Renderer {
         let mut edge_instances: Vec<EdgeInstance> = Vec::new();
         let hybrid_resolution = HybridSettings::default_resolution(self.desc.width, self.desc.height);
         let map_techniques = [Technique::ShadowMap, Technique::SilhouetteMap, Technique::Hybrid];
-        let map_lights = lights.iter_mut().filter(|l| map_techniques.iter().any(|&t| uses(l, t)));
+        let map_lights = lights.iter_mut().filter(|l| map_techniques.iter().any(|&t| shadows(l, t)));
         for plan in map_lights {
             let light = &scene.lights[plan.light];
-            let Some(views) = frustum::fit(light, scene, &boxes, camera) else {
+            let Some(mut views) = frustum::fit(light, scene, &boxes, camera) else {
                 plan.note = Some("no caster can shadow a visible receiver: no shadow map rendered".into());
                 continue;
             };
+            if self.desc.cull {
+                // The fit saw every caster (so the map's frustum is the same either way); only
+                // the planned ones are drawn, each into the views it may touch.
+                views.casters.retain(|c| plan.map_casters.contains(c));
+                let out = views.cull_per_view(&boxes);
+                tally(&mut plan.culled, CullReason::OutsideMapView, out);
+            }
             let silhouette = plan.technique == Technique::SilhouetteMap;
             if silhouette && views.kind == MapKind::Cube {
                 return Err(RenderError::UnsupportedLight {
@@ -348,7 +382,7 @@ impl Renderer {
                 _ => settings.resolution,
             });
             self.shadow_map.prepare(&self.ctx, plan.light, resolution, views.kind)?;
-            shadows[plan.light] = GpuShadow {
+            gpu_shadows[plan.light] = GpuShadow {
                 kind: match (views.kind, silhouette) {
                     (MapKind::Cube, _) => 2,
                     (MapKind::Single, false) => 1,
@@ -397,14 +431,15 @@ impl Renderer {
         // hybrid lights, Chan–Durand §3 step 3; none for a hybrid light without a map).
         let mut built: Vec<Option<LightVolumes>> = vec![None; scene.lights.len()];
         let mut volume_vertices = Vec::new();
-        let volume_lights = lights
-            .iter_mut()
-            .filter(|l| uses(l, Technique::ShadowVolume) || (uses(l, Technique::Hybrid) && fitted[l.light].is_some()));
+        let volume_lights = lights.iter_mut().filter(|l| {
+            shadows(l, Technique::ShadowVolume) || (shadows(l, Technique::Hybrid) && fitted[l.light].is_some())
+        });
         for plan in volume_lights {
             let light = &scene.lights[plan.light];
             let mode = if plan.technique == Technique::Hybrid { VolumeMode::ZFail } else { volume_settings.mode };
             let v = volumes::build_light(
                 scene,
+                &plan.volume_casters,
                 &adjacency,
                 &boxes,
                 light,
@@ -418,12 +453,13 @@ impl Renderer {
         let volume_buffer = vertex_buffer(&self.ctx, "shadow volume vertices", &volume_vertices)?;
         // Hybrid lights: their queries (mask samples, masked volume fragments) and, with
         // blocker culling, one box per caster of a 2D map.
-        let hybrids: Vec<usize> =
-            (0..scene.lights.len()).filter(|&l| built[l].is_some() && fitted[l].is_some()).collect();
-        let hybrids: Vec<usize> =
-            hybrids.into_iter().filter(|&l| scene.lights[l].technique == Technique::Hybrid).collect();
+        let hybrids: Vec<usize> = lights
+            .iter()
+            .filter(|l| l.technique == Technique::Hybrid && built[l.light].is_some() && fitted[l.light].is_some())
+            .map(|l| l.light)
+            .collect();
         let mut culling = CullingPlan::default();
-        if self.desc.hybrid.cull_blockers {
+        if self.desc.hybrid.cull_blockers && self.desc.cull {
             for &l in &hybrids {
                 let (Some(v), Some(views)) = (&built[l], &fitted[l]) else { continue };
                 if views.kind != MapKind::Single {
@@ -458,8 +494,15 @@ impl Renderer {
             self.hybrid.prepare(&self.ctx, self.desc.width, self.desc.height, self.mask == MaskKind::DepthBounds)?;
         }
 
-        let gpu =
-            GpuScene::upload(&self.ctx, &self.scene_set_layout, scene, &camera_used, aspect, &shadows, &shadow_views)?;
+        let gpu = GpuScene::upload(
+            &self.ctx,
+            &self.scene_set_layout,
+            scene,
+            &camera_used,
+            aspect,
+            &gpu_shadows,
+            &shadow_views,
+        )?;
         let shadow_sets = lights
             .iter()
             .filter(|l| l.recorded)
@@ -534,7 +577,11 @@ impl Renderer {
             + classified.len()
             + usize::from(self.gbuffer.is_some())
             + usize::from(culling_queries.is_some());
-        let volume_lights = built.iter().flatten().count() as u32;
+        // One overdraw query per light with volumes, when any volume has vertices to draw.
+        let volume_lights = match volume_buffer {
+            Some(_) => built.iter().flatten().count() as u32,
+            None => 0,
+        };
         let fragment_queries = match (&self.overdraw, volume_lights) {
             (Some(_), n) if n > 0 => Some(QueryPool::new(&self.ctx, "volume fragments", QueryKind::Occlusion, n)?),
             _ => None,
@@ -551,7 +598,7 @@ impl Renderer {
         for plan in lights.iter().filter(|l| l.recorded) {
             if let Some(views) = &fitted[plan.light] {
                 timer.begin(&mut rec, &mut log, format!("shadow_map {}", plan.light), Some(plan.light));
-                let first_view = shadows[plan.light].first_view;
+                let first_view = gpu_shadows[plan.light].first_view;
                 let clamp = bias_clamps[plan.light];
                 self.shadow_map.record(
                     &mut rec,
@@ -591,7 +638,7 @@ impl Renderer {
                         continue;
                     }
                     let map = self.shadow_map.image(l)?;
-                    let view = shadows[l].first_view;
+                    let view = gpu_shadows[l].first_view;
                     self.hybrid.record_culling(
                         &mut rec,
                         &self.layout,
@@ -619,6 +666,9 @@ impl Renderer {
         for plan in lights.iter_mut().filter(|l| built[l.light].is_some()) {
             if let Some(v) = &built[plan.light] {
                 plan.shadow_volume = Some(volume_report(scene, v));
+            }
+            if let Some(n) = culling.culled(plan.light) {
+                tally(&mut plan.culled, CullReason::HiddenBlocker, n);
             }
         }
 
@@ -682,6 +732,7 @@ impl Renderer {
                 };
                 self.hybrid.record_light(&mut rec, &timer, &mut log, light);
             } else {
+                let bounds = PassBounds { scissor: plan.scissor, depth: plan.depth_bounds };
                 if let Some((v, buffer)) = volumes {
                     timer.begin(&mut rec, &mut log, format!("shadow_volume {}", plan.light), Some(plan.light));
                     rec.begin_rendering(&RenderTargets { color: &[], depth: Some(keep_depth(Some(0))) });
@@ -690,6 +741,7 @@ impl Renderer {
                         VolumeBindings { layout: &self.layout, gpu: &gpu, vertices: buffer },
                         v,
                         plan.light as u32,
+                        bounds,
                         &mut log,
                     );
                     rec.end_rendering();
@@ -712,6 +764,7 @@ impl Renderer {
                     scene,
                     plan.light as u32,
                     stenciled,
+                    bounds,
                     &mut log,
                 );
                 rec.end_rendering();
@@ -825,8 +878,13 @@ impl Renderer {
             (Some((_, readback)), true) => Some(readback.read()?),
             _ => None,
         };
-        if let Some(q) = &fragment_queries {
-            let counts = q.results()?;
+        let counts = match (&fragment_queries, &self.overdraw) {
+            (Some(q), _) => Some(q.results()?),
+            // Volumes built, none with a triangle: nothing was rasterized.
+            (None, Some(_)) => Some(vec![0; built.iter().flatten().count()]),
+            (None, None) => None,
+        };
+        if let Some(counts) = counts {
             let with_volumes = lights.iter_mut().filter(|l| l.shadow_volume.is_some());
             for (plan, count) in with_volumes.zip(counts) {
                 if let Some(r) = plan.shadow_volume.as_mut() {
@@ -888,6 +946,9 @@ impl Renderer {
         let sum = |diagnostic: bool| {
             passes.iter().filter(|p| p.diagnostic == diagnostic).map(|p| p.gpu_ms).sum::<Option<f64>>()
         };
+        for plan in &mut lights {
+            plan.passes = passes.iter().filter(|p| p.light == Some(plan.light)).map(|p| p.name.clone()).collect();
+        }
         let report = FrameReport {
             device: caps.device_name.clone(),
             driver: format!("{} {}", caps.driver_name, caps.driver_info).trim().to_owned(),
@@ -897,6 +958,7 @@ impl Renderer {
             height: self.desc.height,
             shadow_map_settings: settings,
             shadow_volume_settings: volume_settings,
+            plan: FramePlan::of(self.desc.cull, &lights),
             lights,
             total_gpu_ms: sum(false),
             diagnostic_gpu_ms: sum(true),

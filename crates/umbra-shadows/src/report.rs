@@ -1,6 +1,6 @@
 //! The frame report: what a frame did, on which device, and what it cost on the GPU.
 
-use crate::plan::LightPlan;
+use crate::plan::{FramePlan, LightPlan};
 use crate::shadow_map::ShadowMapSettings;
 use crate::shadow_volume::ShadowVolumeSettings;
 use crate::timing::PassReport;
@@ -55,7 +55,11 @@ pub struct FrameReport {
     pub shadow_map_settings: ShadowMapSettings,
     /// Shadow-volume settings the renderer was built with.
     pub shadow_volume_settings: ShadowVolumeSettings,
-    /// Per light: technique and whether its passes were recorded (and why not).
+    /// The frame plan in numbers: lights recorded, skipped and shadowed, casters culled per
+    /// reason.
+    pub plan: FramePlan,
+    /// Per light: technique, passes recorded, what was culled and why, and its technique's
+    /// figures.
     pub lights: Vec<LightPlan>,
     /// Every recorded pass, in order, with its GPU time.
     pub passes: Vec<PassReport>,

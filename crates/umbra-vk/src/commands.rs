@@ -269,6 +269,18 @@ impl<'a> Recorder<'a> {
         }
     }
 
+    /// Limits drawing to the rectangle (x, y, width, height; y down, in pixels) until the next
+    /// `begin_rendering` or `set_viewport`.
+    pub fn set_scissor(&mut self, rect: [u32; 4]) {
+        let [x, y, width, height] = rect;
+        let scissor = vk::Rect2D {
+            offset: vk::Offset2D { x: x.min(i32::MAX as u32) as i32, y: y.min(i32::MAX as u32) as i32 },
+            extent: vk::Extent2D { width, height },
+        };
+        // SAFETY: every umbra pipeline has dynamic scissor; offsets are non-negative.
+        unsafe { self.device().cmd_set_scissor(self.cmd, 0, &[scissor]) };
+    }
+
     /// Binds a graphics pipeline.
     pub fn bind_pipeline(&mut self, pipeline: &'a GraphicsPipeline) {
         // SAFETY: the pipeline is alive for 'a.

@@ -6,6 +6,7 @@
 //!   frustum's border lies outside the lit cone); cones wider than 80° use a cube map;
 //! - point: six 90° faces of a cube map (Arneson §3), oriented as Vulkan samples cube maps.
 
+use crate::reach::{Clip, Planes};
 use glam::{Mat4, Vec3, Vec4, Vec4Swizzles};
 use umbra_scene::{Aabb, Light, LightKind, Scene};
 
@@ -34,6 +35,42 @@ pub(crate) struct LightViews {
     pub far: f32,
     /// Objects that cast into this map, nearest to the light first.
     pub casters: Vec<usize>,
+    /// Per view, the casters that may touch it (`cull_per_view`); `None`: all of `casters`.
+    pub view_casters: Option<Vec<Vec<usize>>>,
+}
+
+impl LightViews {
+    /// The casters drawn into view `layer`.
+    pub fn casters_of(&self, layer: usize) -> &[usize] {
+        match &self.view_casters {
+            Some(v) => v.get(layer).map_or(&[], Vec::as_slice),
+            None => &self.casters,
+        }
+    }
+
+    /// Keeps, per view, only the casters whose bounds may touch it (its side planes: the
+    /// hardware would clip the rest, so the map is unchanged). Returns the (caster, view)
+    /// pairs left out.
+    pub fn cull_per_view(&mut self, boxes: &[Option<Aabb>]) -> usize {
+        let mut culled = 0;
+        let per_view = self
+            .views
+            .iter()
+            .map(|&vp| {
+                let planes = Planes::of(vp, Clip::Sides);
+                let kept: Vec<usize> = self
+                    .casters
+                    .iter()
+                    .copied()
+                    .filter(|&c| boxes.get(c).copied().flatten().is_none_or(|b| planes.may_hold_box(&b)))
+                    .collect();
+                culled += self.casters.len() - kept.len();
+                kept
+            })
+            .collect();
+        self.view_casters = Some(per_view);
+        culled
+    }
 }
 
 /// Fits the views of `light`, or `None` when no caster can shadow a visible receiver. `boxes`
@@ -42,10 +79,11 @@ pub(crate) fn fit(light: &Light, scene: &Scene, boxes: &[Option<Aabb>], camera_v
     let bounds = |i: usize| boxes.get(i).copied().flatten();
     let casters: Vec<usize> =
         (0..scene.objects.len()).filter(|&i| scene.objects[i].casts_shadows && bounds(i).is_some()).collect();
+    let view = Planes::of(camera_view_proj, Clip::All);
     let receivers: Vec<Aabb> = (0..scene.objects.len())
         .filter(|&i| scene.objects[i].receives_shadows)
         .filter_map(bounds)
-        .filter(|b| intersects_frustum(camera_view_proj, b))
+        .filter(|b| view.may_hold_box(b))
         .collect();
     if casters.is_empty() || receivers.is_empty() {
         return None;
@@ -92,7 +130,7 @@ fn directional(towards_light: Vec3, casters: &[Aabb], receivers: &[Aabb]) -> Opt
     let depth_pad = (far - near) * 0.01 + 1e-3;
     let (near, far) = (near - depth_pad, far + depth_pad);
     let proj = Mat4::orthographic_rh(min.x - pad.x, max.x + pad.x, min.y - pad.y, max.y + pad.y, near, far);
-    Some(LightViews { kind: MapKind::Single, views: vec![proj * view], near, far, casters: vec![] })
+    Some(LightViews { kind: MapKind::Single, views: vec![proj * view], near, far, casters: vec![], view_casters: None })
 }
 
 /// The far distance from `p` that holds every caster and receiver (a view's depth never
@@ -119,7 +157,7 @@ fn spot(light: &Light, casters: &[Aabb], receivers: &[Aabb]) -> LightViews {
     let fov = (2.0 * (s.outer_deg + SPOT_MARGIN_DEG)).to_radians();
     let view = Mat4::look_at_rh(p, p + axis, any_up(axis));
     let proj = Mat4::perspective_rh(fov, 1.0, near, far);
-    LightViews { kind: MapKind::Single, views: vec![proj * view], near, far, casters: vec![] }
+    LightViews { kind: MapKind::Single, views: vec![proj * view], near, far, casters: vec![], view_casters: None }
 }
 
 /// Right, up and forward of the six cube faces in Vulkan's layer order (+X, -X, +Y, -Y, +Z,
@@ -155,7 +193,7 @@ fn cube(p: Vec3, casters: &[Aabb], receivers: &[Aabb]) -> LightViews {
             proj * view
         })
         .collect();
-    LightViews { kind: MapKind::Cube, views, near, far, casters: vec![] }
+    LightViews { kind: MapKind::Cube, views, near, far, casters: vec![], view_casters: None }
 }
 
 /// World units per texel along the map's x and y for an orthographic `view_proj` (clip x and
@@ -197,23 +235,6 @@ fn any_up(dir: Vec3) -> Vec3 {
     } else {
         Vec3::Y
     }
-}
-
-/// Whether an AABB may be inside the clip volume of `view_proj` (0 ≤ z ≤ w). Planes with a
-/// vanishing normal (an infinite far plane) are ignored.
-pub(crate) fn intersects_frustum(view_proj: Mat4, b: &Aabb) -> bool {
-    let m = view_proj.transpose(); // rows of view_proj as columns
-    let (r0, r1, r2, r3) = (m.x_axis, m.y_axis, m.z_axis, m.w_axis);
-    let planes = [r3 + r0, r3 - r0, r3 + r1, r3 - r1, r2, r3 - r2];
-    planes.iter().all(|pl| {
-        let n = pl.xyz();
-        if n.length_squared() < 1e-12 {
-            return true;
-        }
-        // The box corner farthest along the plane normal.
-        let corner = Vec3::select(n.cmpge(Vec3::ZERO), b.max, b.min);
-        n.dot(corner) + pl.w >= 0.0
-    })
 }
 
 #[cfg(test)]
@@ -294,21 +315,5 @@ mod tests {
         // Casters entirely outside the receivers' light-space footprint shadow nothing.
         let far_away = [Aabb { min: Vec3::new(50.0, 1.0, 50.0), max: Vec3::new(51.0, 2.0, 51.0) }];
         assert!(directional(Vec3::Y, &far_away, &receivers).is_none());
-    }
-
-    #[test]
-    fn frustum_test_rejects_boxes_behind_the_camera() {
-        let cam = umbra_scene::Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO);
-        let vp = cam.view_proj(1.0);
-        let front = Aabb { min: Vec3::splat(-0.5), max: Vec3::splat(0.5) };
-        let behind = Aabb { min: Vec3::new(-0.5, -0.5, 9.0), max: Vec3::new(0.5, 0.5, 10.0) };
-        assert!(intersects_frustum(vp, &front));
-        assert!(!intersects_frustum(vp, &behind));
-        let mut inf = cam;
-        inf.far = None;
-        assert!(intersects_frustum(
-            inf.view_proj(1.0),
-            &Aabb { min: Vec3::new(0.0, 0.0, -1e6), max: Vec3::new(1.0, 1.0, -1e6 + 1.0) }
-        ));
     }
 }

@@ -196,7 +196,7 @@ impl ShadowMapPass {
             rec.bind_descriptor_set(layout, 0, &gpu.set);
             rec.bind_vertex_buffer(&gpu.vertices);
             rec.bind_index_buffer(&gpu.indices);
-            for &object in &views.casters {
+            for &object in views.casters_of(layer) {
                 let Some(m) = scene.objects.get(object).and_then(|o| gpu.meshes.get(o.mesh)) else { continue };
                 if m.index_count == 0 {
                     continue;

@@ -31,12 +31,13 @@ pub(crate) struct LightVolumes {
     pub cpu_ms: f64,
 }
 
-/// Builds the volumes of `light` for every caster of `scene`, appending their vertices to
-/// `vertices`. `adjacency[i]` is mesh `i`'s welded connectivity; `boxes` each object's world
-/// bounds (`Scene::object_bounds`).
+/// Builds the volumes of `light` for the objects `casters` (the plan's, `LightPlan`), appending
+/// their vertices to `vertices`. `adjacency[i]` is mesh `i`'s welded connectivity; `boxes` each
+/// object's world bounds (`Scene::object_bounds`).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn build_light(
     scene: &Scene,
+    casters: &[usize],
     adjacency: &[Arc<Adjacency>],
     boxes: &[Option<Aabb>],
     light: &Light,
@@ -47,12 +48,10 @@ pub(crate) fn build_light(
 ) -> LightVolumes {
     let started = std::time::Instant::now();
     let near_region = NearRegion::new(camera, aspect, light.position);
-    let built: Vec<(usize, Counting, Vec<Vec4>, VolumeStats)> = scene
-        .objects
+    let built: Vec<(usize, Counting, Vec<Vec4>, VolumeStats)> = casters
         .par_iter()
-        .enumerate()
-        .filter(|(_, o)| o.casts_shadows)
-        .filter_map(|(i, o)| {
+        .filter_map(|&i| {
+            let o = scene.objects.get(i)?;
             let adj = adjacency.get(o.mesh)?;
             let bounds = boxes.get(i).copied().flatten()?;
             // The light in the caster's object space: facing is decided there.

@@ -3,6 +3,7 @@
 
 use super::build::{CasterVolume, Counting, LightVolumes};
 use super::settings::{FarPlane, ShadowVolumeSettings};
+use crate::forward::{Bounded, PassBounds};
 use crate::gpu_scene::{DrawPush, GpuScene};
 use crate::timing::PassLog;
 use crate::RenderResult;
@@ -75,27 +76,29 @@ impl<'a> VolumeBindings<'a> {
 
 /// Pipelines of the shadow-volume technique.
 pub(crate) struct ShadowVolumePass {
-    zfail: GraphicsPipeline,
-    zpass: GraphicsPipeline,
+    zfail: Bounded,
+    zpass: Bounded,
     overdraw: Option<GraphicsPipeline>,
 }
 
 impl ShadowVolumePass {
-    /// Builds the counting pipelines (and the overdraw one when asked) against `layout`.
+    /// Builds the counting pipelines (with depth-bounds twins when `depth_bounds`, and the
+    /// overdraw one when asked) against `layout`.
     pub fn new(
         ctx: &Context,
         layout: &PipelineLayout,
         depth_format: vk::Format,
         settings: &ShadowVolumeSettings,
+        depth_bounds: bool,
     ) -> RenderResult<Self> {
         let clamp = settings.far_plane == FarPlane::DepthClamp;
         let mut desc = zfail_desc(depth_format, clamp);
-        let zfail = GraphicsPipeline::new(ctx, layout, &desc)?;
+        let zfail = Bounded::new(ctx, layout, &desc, depth_bounds)?;
         desc.name = "shadow volume z-pass";
         // z-pass: front faces increment, back faces decrement where the depth test passes.
         desc.stencil =
             Some((face(vk::StencilOp::INCREMENT_AND_WRAP, false), face(vk::StencilOp::DECREMENT_AND_WRAP, false)));
-        let zpass = GraphicsPipeline::new(ctx, layout, &desc)?;
+        let zpass = Bounded::new(ctx, layout, &desc, depth_bounds)?;
         let overdraw = if settings.overdraw {
             desc.name = "shadow volume overdraw";
             desc.fragment = Some(umbra_shaders::shadow_volume::OVERDRAW_FRAG);
@@ -112,13 +115,15 @@ impl ShadowVolumePass {
     }
 
     /// Records light `light`'s volumes into the stencil buffer (inside a rendering pass with
-    /// the scene's depth loaded and the stencil cleared to 0).
+    /// the scene's depth loaded and the stencil cleared to 0), within `bounds`: outside them
+    /// the light adds nothing, so its lighting pass never reads the stencil there.
     pub fn record_stencil<'a>(
         &'a self,
         rec: &mut Recorder<'a>,
         b: VolumeBindings<'a>,
         volumes: &LightVolumes,
         light: u32,
+        bounds: PassBounds,
         log: &mut PassLog,
     ) {
         b.bind(rec);
@@ -127,7 +132,8 @@ impl ShadowVolumePass {
             if casters.is_empty() {
                 continue;
             }
-            rec.bind_pipeline(if counting == Counting::ZFail { &self.zfail } else { &self.zpass });
+            let pipeline = if counting == Counting::ZFail { &self.zfail } else { &self.zpass };
+            pipeline.bind(rec, bounds);
             rec.set_stencil_reference(0);
             b.draw(rec, casters, light, log);
         }
@@ -135,7 +141,7 @@ impl ShadowVolumePass {
 
     /// The z-fail counting pipeline, unmasked.
     pub fn zfail(&self) -> &GraphicsPipeline {
-        &self.zfail
+        self.zfail.plain()
     }
 
     /// Records the overdraw image's draws for light `light` (inside a rendering pass over the
