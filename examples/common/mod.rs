@@ -22,7 +22,9 @@ pub struct CommonArgs {
 }
 
 impl CommonArgs {
-    /// Loads `--scene` with every light's shadows set to `technique`.
+    /// Loads `--scene` with every light's shadows set to `technique` (not every example
+    /// overrides techniques).
+    #[allow(dead_code)]
     pub fn scene_with(&self, technique: umbra::scene::Technique) -> anyhow::Result<umbra::scene::Scene> {
         let mut scene = umbra::scene::load(&self.scene)?;
         for light in &mut scene.lights {

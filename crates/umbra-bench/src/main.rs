@@ -88,6 +88,14 @@ struct SweepArgs {
     /// technique alike: silhouette maps need one 2D map per light and skip point lights.
     #[arg(long)]
     spot_lights: bool,
+    /// Bound every point and spot light to this range (world units): the light adds exactly
+    /// nothing beyond it, so planning can cull by it (scissor, depth bounds, casters).
+    #[arg(long)]
+    light_range: Option<f32>,
+    /// Also measure every configuration without frame planning (`RendererDesc::cull` off):
+    /// the summary's `--no-cull` column, and a check that the image is the same.
+    #[arg(long)]
+    no_cull: bool,
     /// Hide the progress bar.
     #[arg(long)]
     quiet: bool,
@@ -169,6 +177,12 @@ fn run_sweep(args: &SweepArgs) -> BenchResult<()> {
         if args.spot_lights {
             scene.point_lights_to_spots(80.0);
         }
+        if let Some(range) = args.light_range {
+            for light in &mut scene.lights {
+                light.range = Some(range);
+            }
+            scene.validate().map_err(|source| BenchError::Scene { name: name.clone(), source })?;
+        }
         let bvh = SceneBvh::build(&scene);
         log::info!("{name}: {} triangles, reference BVH built in {:.1} ms", scene.triangle_count(), bvh.build_ms());
         for config in plan.configs(name) {
@@ -176,7 +190,17 @@ fn run_sweep(args: &SweepArgs) -> BenchResult<()> {
             if let Some(reason) = sweep::unsupported(&ctx, &config) {
                 skipped.push(sweep::skip(&config, reason));
             } else {
-                match sweep::measure(&ctx, &scene, &bvh, &config, args.size, args.warmup, args.frames, &args.out)? {
+                match sweep::measure(
+                    &ctx,
+                    &scene,
+                    &bvh,
+                    &config,
+                    args.size,
+                    args.warmup,
+                    args.frames,
+                    args.no_cull,
+                    &args.out,
+                )? {
                     Ok(r) => records.push(r),
                     Err(reason) => skipped.push(sweep::skip(&config, reason)),
                 }

@@ -153,6 +153,21 @@ pub struct Record {
     pub accuracy: Accuracy,
     /// The error image, relative to the output folder.
     pub error_image: String,
+    /// Passes the planned frame recorded (diagnostic ones included).
+    pub recorded_passes: usize,
+    /// The same configuration without planning (`--no-cull`).
+    pub no_cull: Option<NoCull>,
+}
+
+/// A configuration measured again with `RendererDesc::cull` off.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct NoCull {
+    /// The frame's total GPU time without planning.
+    pub gpu_ms: Option<Spread>,
+    /// Passes recorded without planning.
+    pub recorded_passes: usize,
+    /// Whether its last image equals the planned one byte for byte.
+    pub identical: bool,
 }
 
 /// A configuration the device cannot run.
@@ -185,7 +200,7 @@ pub struct Results {
 }
 
 /// The CSV header, one column per flat field of a [`Record`].
-pub const CSV_HEADER: [&str; 22] = [
+pub const CSV_HEADER: [&str; 25] = [
     "scene",
     "technique",
     "sm_size",
@@ -208,6 +223,9 @@ pub const CSV_HEADER: [&str; 22] = [
     "false_lit_fraction",
     "edge_band_wrong_fraction",
     "max_wrong_distance_px",
+    "recorded_passes",
+    "no_cull_gpu_ms_median",
+    "no_cull_identical",
 ];
 
 impl Record {
@@ -241,6 +259,9 @@ impl Record {
             a.false_lit_fraction.to_string(),
             a.edge_band_wrong_fraction.to_string(),
             opt(a.max_wrong_distance_px),
+            self.recorded_passes.to_string(),
+            opt(self.no_cull.as_ref().and_then(|n| n.gpu_ms).map(|s| s.median)),
+            opt(self.no_cull.as_ref().map(|n| n.identical)),
         ]
     }
 }

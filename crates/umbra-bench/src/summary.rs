@@ -19,17 +19,31 @@ pub fn table(records: &[&Record]) -> String {
         t(a).total_cmp(&t(b))
     });
     let mut s = String::from(
-        "| configuration | GPU ms median (p25–p75) | CPU silhouette ms | wrong % | false shadow % | false lit % | edge-band wrong % | max wrong distance px | O (overdraw) | P % | masked volume fragments |\n\
-         | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n",
+        "| configuration | GPU ms median (p25–p75) | --no-cull GPU ms (saved) | passes (--no-cull) | CPU silhouette ms | wrong % | false shadow % | false lit % | edge-band wrong % | max wrong distance px | O (overdraw) | P % | masked volume fragments |\n\
+         | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n",
     );
     for r in rows {
         let a = &r.accuracy;
         let gpu = r.gpu_ms.map_or_else(|| "n/a".into(), |g| format!("{:.3} ({:.3}–{:.3})", g.median, g.p25, g.p75));
+        let (no_cull, passes) = match &r.no_cull {
+            Some(n) => {
+                let t = n.gpu_ms.map(|g| g.median);
+                let saved = t.zip(r.gpu_ms.map(|g| g.median)).map(|(n, p)| (n - p) / n);
+                let same = if n.identical { "" } else { ", IMAGE DIFFERS" };
+                (
+                    format!("{} ({}{same})", ms(t), saved.map_or_else(|| "n/a".into(), |v| format!("{}%", pct(v)))),
+                    format!("{} ({})", r.recorded_passes, n.recorded_passes),
+                )
+            }
+            None => ("–".into(), r.recorded_passes.to_string()),
+        };
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             r.config.label(),
             gpu,
+            no_cull,
+            passes,
             ms(r.cpu_silhouette_ms.map(|c| c.median)),
             pct(a.wrong_fraction),
             pct(a.false_shadow_fraction),

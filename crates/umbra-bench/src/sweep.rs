@@ -1,7 +1,7 @@
 //! The sweep: every (scene, technique, option) configuration rendered for warm-up plus N
 //! frames, timed per pass, and its last frame scored against the exact reference.
 
-use crate::record::{Accuracy, Config, Fill, PassTime, Record, Skipped, Spread};
+use crate::record::{Accuracy, Config, Fill, NoCull, PassTime, Record, Skipped, Spread};
 use crate::{BenchError, BenchResult};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -111,6 +111,7 @@ pub fn measure(
     size: (u32, u32),
     warmup: usize,
     frames: usize,
+    no_cull: bool,
     out: &Path,
 ) -> BenchResult<Result<Record, String>> {
     let Some(technique) = technique(config.technique) else {
@@ -121,21 +122,25 @@ pub fn measure(
         light.technique = technique;
     }
     let desc = renderer_desc(config, size.0, size.1)?;
-    let mut renderer = match Renderer::new(ctx, desc) {
-        Ok(r) => r,
-        Err(e) => return unsupported_or(e),
+    let timed = match run_frames(ctx, desc, &scene, warmup, frames)? {
+        Ok(t) => t,
+        Err(reason) => return Ok(Err(reason)),
     };
-    let mut timed: Vec<Frame> = Vec::with_capacity(frames);
-    for i in 0..warmup + frames.max(1) {
-        let frame = match renderer.render(&scene) {
-            Ok(f) => f,
-            Err(e) => return unsupported_or(e),
-        };
-        if i >= warmup {
-            timed.push(frame);
-        }
-    }
     let Some(last) = timed.last() else { return Err(BenchError::Usage("no frame rendered".into())) };
+    let no_cull = if no_cull {
+        let unplanned = match run_frames(ctx, RendererDesc { cull: false, ..desc }, &scene, warmup, frames)? {
+            Ok(t) => t,
+            Err(reason) => return Ok(Err(reason)),
+        };
+        let Some(other) = unplanned.last() else { return Err(BenchError::Usage("no frame rendered".into())) };
+        Some(NoCull {
+            gpu_ms: total_gpu(&unplanned),
+            recorded_passes: other.report.passes.len(),
+            identical: other.rgba == last.rgba,
+        })
+    } else {
+        None
+    };
     let accuracy = score(&scene, bvh, last, &out.join("images"), &config.id())?;
     let r = &last.report;
     Ok(Ok(Record {
@@ -146,13 +151,45 @@ pub fn measure(
         height: size.1,
         triangles: r.scene.triangles,
         frames: timed.len(),
-        gpu_ms: Spread::of(&timed.iter().filter_map(|f| f.report.total_gpu_ms).collect::<Vec<_>>()),
+        gpu_ms: total_gpu(&timed),
         passes: pass_times(&timed),
         cpu_silhouette_ms: Spread::of(&timed.iter().filter_map(cpu_silhouette_ms).collect::<Vec<_>>()),
         fill: fill(last),
         accuracy,
         error_image: format!("images/{}-error.png", config.id()),
+        recorded_passes: r.passes.len(),
+        no_cull,
     }))
+}
+
+/// Renders `warmup` discarded frames, then `frames` kept ones (at least one).
+fn run_frames(
+    ctx: &Context,
+    desc: RendererDesc,
+    scene: &Scene,
+    warmup: usize,
+    frames: usize,
+) -> BenchResult<Result<Vec<Frame>, String>> {
+    let mut renderer = match Renderer::new(ctx, desc) {
+        Ok(r) => r,
+        Err(e) => return unsupported_or(e),
+    };
+    let mut timed: Vec<Frame> = Vec::with_capacity(frames);
+    for i in 0..warmup + frames.max(1) {
+        let frame = match renderer.render(scene) {
+            Ok(f) => f,
+            Err(e) => return unsupported_or(e),
+        };
+        if i >= warmup {
+            timed.push(frame);
+        }
+    }
+    Ok(Ok(timed))
+}
+
+/// The spread of the frames' total GPU times.
+fn total_gpu(frames: &[Frame]) -> Option<Spread> {
+    Spread::of(&frames.iter().filter_map(|f| f.report.total_gpu_ms).collect::<Vec<_>>())
 }
 
 /// A typed "unsupported" becomes a skip reason; anything else stops the sweep.
