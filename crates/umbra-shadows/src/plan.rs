@@ -373,23 +373,20 @@ pub(crate) fn plan_frame(scene: &Scene, input: &PlanInput<'_>) -> RenderResult<V
                     None => {}
                 }
             }
+            let reason = |u: &Unreached| match u {
+                Unreached::Range => CullReason::OutsideRange,
+                Unreached::Cone => CullReason::OutsideCone,
+            };
             let volumes = matches!(plan.technique, Technique::ShadowVolume | Technique::Hybrid);
             let mut out = Vec::new();
             for &c in &casters {
                 let Some(b) = input.boxes.get(c).copied().flatten() else { continue };
                 match reach::light_reaches(l, &b, 0.0) {
-                    Err(why) => out.push(match why {
-                        Unreached::Range => CullReason::OutsideRange,
-                        Unreached::Cone => CullReason::OutsideCone,
-                    }),
+                    Err(why) => out.push(reason(&why)),
                     Ok(()) if !sides.may_hold_sweep(&b, l.position) => out.push(CullReason::VolumeOutsideView),
                     Ok(()) => plan.volume_casters.push(c),
                 }
             }
-            let reason = |u: &Unreached| match u {
-                Unreached::Range => CullReason::OutsideRange,
-                Unreached::Cone => CullReason::OutsideCone,
-            };
             let culled: Vec<CullReason> = if volumes { out } else { map_out.iter().map(reason).collect() };
             for r in [CullReason::OutsideRange, CullReason::OutsideCone, CullReason::VolumeOutsideView] {
                 tally(&mut plan.culled, r, culled.iter().filter(|&&c| c == r).count());
