@@ -31,16 +31,22 @@ struct Args {
 fn main() -> anyhow::Result<()> {
     common::init_logging();
     let args = Args::parse();
-    let ctx = umbra::vk::Context::new()?;
     let scene = umbra::scene::load(&args.common.scene)?;
     let (width, height) = args.common.size;
-    let render = |cull: bool| -> anyhow::Result<Frame> {
+    let desc = |cull: bool| {
         let mut desc = RendererDesc::new(width, height);
         desc.cull = cull;
         // Volume fragments are counted (an occlusion query per light) so the plan shows them.
         desc.shadow_volume.overdraw = true;
         desc.hybrid.cull_blockers = cull;
-        let mut renderer = Renderer::new(&ctx, desc)?;
+        desc
+    };
+    if args.common.window {
+        return common::window::run(&args.common, "effects", scene, desc(!args.no_cull));
+    }
+    let ctx = umbra::vk::Context::new()?;
+    let render = |cull: bool| -> anyhow::Result<Frame> {
+        let mut renderer = Renderer::new(&ctx, desc(cull))?;
         common::render_warm(&mut renderer, &scene, &args.common)
     };
     let frame = render(!args.no_cull)?;

@@ -57,8 +57,7 @@ fn write_debug_views(args: &Args, frame: &umbra::shadows::Frame, d: &LightDiagno
         save(format!("hybrid-fill-{}.png", d.light), &d.fill_image(overdraw))?;
     }
     if let Some(stencil) = &d.stencil {
-        let rgba: Vec<u8> =
-            stencil.iter().flat_map(|&s| if s & 0x7f != 0 { [255; 4] } else { [0, 0, 0, 255] }).collect();
+        let rgba: Vec<u8> = stencil.iter().flat_map(|&s| common::views::stencil_texel(s)).collect();
         save(format!("hybrid-stencil-{}.png", d.light), &rgba)?;
     }
     Ok(())
@@ -67,7 +66,6 @@ fn write_debug_views(args: &Args, frame: &umbra::shadows::Frame, d: &LightDiagno
 fn main() -> anyhow::Result<()> {
     common::init_logging();
     let args = Args::parse();
-    let ctx = umbra::vk::Context::new()?;
     let scene = args.common.scene_with(Technique::Hybrid)?;
     let (width, height) = args.common.size;
     let mut desc = RendererDesc::new(width, height);
@@ -76,6 +74,10 @@ fn main() -> anyhow::Result<()> {
     // out of the total.
     desc.shadow_volume.overdraw = true;
     desc.diagnostics = args.debug_view;
+    if args.common.window {
+        return common::window::run(&args.common, "hybrid", scene, desc);
+    }
+    let ctx = umbra::vk::Context::new()?;
     let mut renderer = Renderer::new(&ctx, desc)?;
     println!("computation mask: {}", renderer.mask().name());
     let frame = common::render_warm(&mut renderer, &scene, &args.common)?;

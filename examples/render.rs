@@ -41,13 +41,17 @@ fn parse_technique(s: &str) -> Result<Technique, String> {
 fn main() -> anyhow::Result<()> {
     common::init_logging();
     let args = Args::parse();
-    let ctx = umbra::vk::Context::new()?;
     let scene = match args.technique {
         Some(t) => args.common.scene_with(t)?,
         None => umbra::scene::load(&args.common.scene)?,
     };
     let (width, height) = args.common.size;
-    let mut renderer = Renderer::new(&ctx, RendererDesc::new(width, height))?;
+    let desc = RendererDesc::new(width, height);
+    if args.common.window {
+        return common::window::run(&args.common, "render", scene, desc);
+    }
+    let ctx = umbra::vk::Context::new()?;
+    let mut renderer = Renderer::new(&ctx, desc)?;
     let frame = common::render_warm(&mut renderer, &scene, &args.common)?;
     common::write_outputs(&args.common, "render", &frame)
 }

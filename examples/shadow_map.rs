@@ -43,7 +43,6 @@ fn parse_bias(s: &str) -> Result<DepthBias, String> {
 fn main() -> anyhow::Result<()> {
     common::init_logging();
     let args = Args::parse();
-    let ctx = umbra::vk::Context::new()?;
     let scene = args.common.scene_with(Technique::ShadowMap)?;
     let (width, height) = args.common.size;
     let mut desc = RendererDesc::new(width, height);
@@ -54,6 +53,10 @@ fn main() -> anyhow::Result<()> {
         normal_offset: args.normal_offset,
         outside_lit: !args.outside_shadowed,
     };
+    if args.common.window {
+        return common::window::run(&args.common, "shadow_map", scene, desc);
+    }
+    let ctx = umbra::vk::Context::new()?;
     let mut renderer = Renderer::new(&ctx, desc)?;
     let frame = common::render_warm(&mut renderer, &scene, &args.common)?;
     for l in &frame.report.lights {

@@ -9,7 +9,6 @@
 mod common;
 
 use clap::Parser;
-use glam::{Vec3, Vec4};
 use umbra::scene::Technique;
 use umbra::shadows::{FarPlane, Renderer, RendererDesc, ShadowVolumeSettings, VolumeMode};
 
@@ -36,7 +35,6 @@ struct Args {
 fn main() -> anyhow::Result<()> {
     common::init_logging();
     let args = Args::parse();
-    let ctx = umbra::vk::Context::new()?;
     let mut scene = args.common.scene_with(Technique::ShadowVolume)?;
     if let Some(first) = scene.lights.first().cloned() {
         let n = args.lights.max(1);
@@ -64,6 +62,10 @@ fn main() -> anyhow::Result<()> {
         far_plane: if args.depth_clamp { FarPlane::DepthClamp } else { FarPlane::Infinite },
         overdraw: args.show_volumes,
     };
+    if args.common.window {
+        return common::window::run(&args.common, "shadow_volume", scene, desc);
+    }
+    let ctx = umbra::vk::Context::new()?;
     let mut renderer = Renderer::new(&ctx, desc)?;
     let frame = common::render_warm(&mut renderer, &scene, &args.common)?;
     for l in &frame.report.lights {
@@ -83,7 +85,7 @@ fn main() -> anyhow::Result<()> {
     }
     common::write_outputs(&args.common, "shadow_volume", &frame)?;
     if let Some(overdraw) = &frame.overdraw {
-        let heat: Vec<u8> = overdraw.chunks_exact(4).flat_map(|p| heat(p[0])).collect();
+        let heat: Vec<u8> = overdraw.chunks_exact(4).flat_map(|p| common::views::heat(p[0])).collect();
         let path = args.common.out.join("shadow_volume_overdraw.png");
         image::save_buffer(&path, &heat, width, height, image::ColorType::Rgba8)?;
         let max = overdraw.chunks_exact(4).map(|p| p[0]).max().unwrap_or(0);
@@ -94,15 +96,4 @@ fn main() -> anyhow::Result<()> {
         );
     }
     Ok(())
-}
-
-/// A black → blue → red → yellow → white ramp over 0..=32 fragments (more saturates).
-fn heat(count: u8) -> [u8; 4] {
-    let t = (count as f32 / 32.0).min(1.0);
-    let stops = [Vec3::ZERO, Vec3::new(0.1, 0.2, 0.9), Vec3::new(0.9, 0.1, 0.1), Vec3::new(1.0, 0.9, 0.1), Vec3::ONE];
-    let x = t * (stops.len() - 1) as f32;
-    let i = (x as usize).min(stops.len() - 2);
-    let c = stops[i].lerp(stops[i + 1], x - i as f32);
-    let c = Vec4::from((c * 255.0, 255.0));
-    [c.x as u8, c.y as u8, c.z as u8, c.w as u8]
 }

@@ -68,7 +68,6 @@ fn write_debug_views(args: &Args, frame: &umbra::shadows::Frame, d: &LightDiagno
 fn main() -> anyhow::Result<()> {
     common::init_logging();
     let args = Args::parse();
-    let ctx = umbra::vk::Context::new()?;
     let mut scene = args.common.scene_with(Technique::SilhouetteMap)?;
     for i in scene.point_lights_to_spots(MAX_CONE_DEG) {
         println!("light {i}: point light made a spot aimed at the scene centre (silhouette maps need a 2D map)");
@@ -78,6 +77,10 @@ fn main() -> anyhow::Result<()> {
     desc.shadow_map = ShadowMapSettings { resolution: args.sm_size, ..ShadowMapSettings::DEFAULT };
     // The silhouette-pixel count comes from the diagnostics pass (left out of the total).
     desc.diagnostics = true;
+    if args.common.window {
+        return common::window::run(&args.common, "silhouette_map", scene, desc);
+    }
+    let ctx = umbra::vk::Context::new()?;
     let mut renderer = Renderer::new(&ctx, desc)?;
     let frame = common::render_warm(&mut renderer, &scene, &args.common)?;
     for l in &frame.report.lights {

@@ -109,6 +109,7 @@ fn umbra_renders_on_an_engine_owned_device_and_leaves_it_alive() {
             enabled_features: features,
             debug_utils: true,
             conservative_rasterization: false,
+            presentation: false,
         })
         .expect("context from the engine's device");
         let caps = ctx.capabilities().clone();

@@ -59,7 +59,11 @@ fn a_depth_bounds_pipeline_is_built_only_where_the_feature_exists() {
 
 #[test]
 fn an_unknown_device_gives_an_error_listing_the_devices() {
-    let options = umbra::vk::ContextOptions { validation: false, device: Some("no-such-gpu-xyz".into()) };
+    let options = umbra::vk::ContextOptions {
+        validation: false,
+        device: Some("no-such-gpu-xyz".into()),
+        surface_extensions: Vec::new(),
+    };
     let err = umbra::vk::Context::with_options(&options).unwrap_err();
     let text = err.to_string();
     println!("{text}");

@@ -1,9 +1,15 @@
-//! Flags and set-up shared by every example: `--scene`, `--size WxH`, `--out DIR`.
+//! Flags and set-up shared by every example: `--scene`, `--size WxH`, `--out DIR`, `--time`,
+//! and `--window` with its options (the interactive viewer, `window.rs`).
+
+pub mod animate;
+pub mod controls;
+pub mod views;
+pub mod window;
 
 use std::path::PathBuf;
 
 /// The flags every example takes.
-#[derive(clap::Args, Debug)]
+#[derive(clap::Args, Clone, Debug)]
 pub struct CommonArgs {
     /// A procedural scene (cylinder, ball, cubes, cage, tree, pins, plaza), a .toml scene file or a
     /// .glb/.gltf path.
@@ -19,6 +25,31 @@ pub struct CommonArgs {
     /// fill caches on first use, so a cold frame's timings mislead).
     #[arg(long, default_value_t = 2)]
     pub warmup: u32,
+    /// Animation time in seconds: light 0 orbits the scene's vertical axis, a full turn in 12 s
+    /// (0: the scene as loaded). A windowed run prints the time of its screenshot.
+    #[arg(long, default_value_t = 0.0)]
+    pub time: f32,
+    /// Open a window and render interactively (keys and mouse: docs/window.md); without it the
+    /// example renders one frame headless and writes its files.
+    #[arg(long)]
+    pub window: bool,
+    /// Quit after this many frames.
+    #[arg(long, requires = "window")]
+    pub frames: Option<u64>,
+    /// Save the last presented image, read back from the swapchain, as PNG (with the frame's
+    /// report beside it as JSON); needs --frames.
+    #[arg(long, requires = "frames")]
+    pub screenshot: Option<PathBuf>,
+    /// Ask the window system for a new size after FRAME frames: FRAME:WIDTHxHEIGHT.
+    #[arg(long, requires = "window", value_parser = window::parse_resize)]
+    pub resize_at: Option<(u64, (u32, u32))>,
+    /// Keep the last frame on screen this many seconds before quitting (for screenshots taken
+    /// from outside the process).
+    #[arg(long, requires = "frames", default_value_t = 0.0)]
+    pub hold: f32,
+    /// Present without waiting for vertical blank (mailbox or immediate, where offered).
+    #[arg(long, requires = "window")]
+    pub no_vsync: bool,
 }
 
 impl CommonArgs {
@@ -34,19 +65,30 @@ impl CommonArgs {
     }
 }
 
-/// Renders `args.warmup` discarded frames, then the frame that is reported.
+/// Renders `args.warmup` discarded frames, then the frame that is reported, with the
+/// animation at `--time`.
 pub fn render_warm(
     renderer: &mut umbra::shadows::Renderer,
     scene: &umbra::scene::Scene,
     args: &CommonArgs,
 ) -> anyhow::Result<umbra::shadows::Frame> {
+    let animated;
+    let scene = match args.time {
+        0.0 => scene,
+        t => {
+            let mut s = scene.clone();
+            animate::apply(&mut s, t);
+            animated = s;
+            &animated
+        }
+    };
     for _ in 0..args.warmup {
         renderer.render(scene)?;
     }
     Ok(renderer.render(scene)?)
 }
 
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("{s:?} is not WIDTHxHEIGHT"))?;
     let parse = |v: &str| v.trim().parse::<u32>().map_err(|e| format!("{v:?}: {e}"));
     Ok((parse(w)?, parse(h)?))

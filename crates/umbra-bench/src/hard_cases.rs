@@ -29,7 +29,11 @@ pub fn run(args: &HardCasesArgs) -> BenchResult<()> {
     let mut devices: Vec<(String, Vec<CaseRun>)> = Vec::new();
     let mut problems = Vec::new();
     for device in &args.devices {
-        let ctx = Context::with_options(&ContextOptions { validation: true, device: Some(device.clone()) })?;
+        let ctx = Context::with_options(&ContextOptions {
+            validation: true,
+            device: Some(device.clone()),
+            surface_extensions: Vec::new(),
+        })?;
         let name = ctx.capabilities().device_name.clone();
         let mut runs = Vec::new();
         for case in CASES {

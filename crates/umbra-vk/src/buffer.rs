@@ -148,7 +148,7 @@ impl Buffer {
         a.mapped_slice().ok_or_else(|| not_mapped(self.desc.memory))
     }
 
-    fn mapped_mut(&mut self) -> VkResult<&mut [u8]> {
+    pub(crate) fn mapped_mut(&mut self) -> VkResult<&mut [u8]> {
         let memory = self.desc.memory;
         let a = self.allocation.as_mut().ok_or(VkError::Poisoned)?;
         a.mapped_slice_mut().ok_or_else(|| not_mapped(memory))

@@ -24,6 +24,10 @@ pub struct ContextOptions {
     pub validation: bool,
     /// Case-insensitive substring of the device name to pick (`llvmpipe`, `swiftshader`, …).
     pub device: Option<String>,
+    /// Instance extensions for presenting to a window (from [`crate::surface_extensions`]);
+    /// when not empty, the device also gets `VK_KHR_swapchain` and [`crate::Swapchain`] can be
+    /// used. Empty: headless.
+    pub surface_extensions: Vec<&'static CStr>,
 }
 
 impl ContextOptions {
@@ -32,6 +36,7 @@ impl ContextOptions {
         Self {
             validation: std::env::var(VALIDATION_ENV).is_ok_and(|v| v == "1"),
             device: std::env::var(DEVICE_ENV).ok().filter(|s| !s.is_empty()),
+            surface_extensions: Vec::new(),
         }
     }
 }
@@ -70,6 +75,9 @@ pub struct ExternalDevice {
     pub debug_utils: bool,
     /// Whether `VK_EXT_conservative_rasterization` is enabled on the device.
     pub conservative_rasterization: bool,
+    /// Whether the instance has the window system's surface extensions and the device
+    /// `VK_KHR_swapchain`, so that [`crate::Swapchain`] may present with it.
+    pub presentation: bool,
 }
 
 /// Debug-utils function tables and, when umbra owns the instance, its messenger.
@@ -80,7 +88,7 @@ struct DebugUtils {
 }
 
 pub(crate) struct Inner {
-    _entry: ash::Entry,
+    pub(crate) entry: ash::Entry,
     pub(crate) instance: ash::Instance,
     pub(crate) physical_device: vk::PhysicalDevice,
     pub(crate) device: ash::Device,
@@ -92,6 +100,7 @@ pub(crate) struct Inner {
     debug: Option<DebugUtils>,
     counter: Arc<ValidationCounter>,
     owns_device: bool,
+    pub(crate) presentation: bool,
 }
 
 /// A cheaply clonable handle on umbra's Vulkan state; resources keep one to free themselves.
@@ -118,7 +127,8 @@ impl Context {
         let entry = unsafe { ash::Entry::load()? };
         let counter = Arc::new(ValidationCounter::default());
         let (instance, debug_instance, messenger) = create_instance(&entry, options, &counter)?;
-        let built = pick_and_create_device(&instance, options.device.as_deref());
+        let presentation = !options.surface_extensions.is_empty();
+        let built = pick_and_create_device(&instance, options.device.as_deref(), presentation);
         let (physical_device, device, queue_family, enabled, conservative) = match built {
             Ok(b) => b,
             Err(e) => {
@@ -151,6 +161,7 @@ impl Context {
             conservative,
             counter,
             owns_device: true,
+            presentation,
         })
     }
 
@@ -183,6 +194,7 @@ impl Context {
             conservative: ext.conservative_rasterization,
             counter: Arc::new(ValidationCounter::default()),
             owns_device: false,
+            presentation: ext.presentation,
         })
     }
 
@@ -218,7 +230,7 @@ impl Context {
         log::info!("umbra-vk: using {} ({}, {})", caps.device_name, caps.driver_name, caps.driver_info);
         let ctx = Context {
             inner: Arc::new(Inner {
-                _entry: a.entry,
+                entry: a.entry,
                 instance: a.instance,
                 physical_device: a.physical_device,
                 device: a.device,
@@ -230,6 +242,7 @@ impl Context {
                 debug: a.debug,
                 counter: a.counter,
                 owns_device: a.owns_device,
+                presentation: a.presentation,
             }),
         };
         ctx.set_name(pool, "umbra command pool");
@@ -264,6 +277,12 @@ impl Context {
     /// The graphics queue family umbra submits to.
     pub fn queue_family(&self) -> u32 {
         self.inner.queue_family
+    }
+
+    /// Whether this context can present to windows ([`crate::Swapchain`]): created with
+    /// [`ContextOptions::surface_extensions`], or an external device that says so.
+    pub fn presentation(&self) -> bool {
+        self.inner.presentation
     }
 
     /// Whether object names and pass labels reach the debug-utils extension.
@@ -322,6 +341,7 @@ struct Assembly {
     conservative: bool,
     counter: Arc<ValidationCounter>,
     owns_device: bool,
+    presentation: bool,
 }
 
 impl Assembly {
@@ -389,6 +409,15 @@ fn create_instance(
     if debug_utils {
         ext_names.push(ash::ext::debug_utils::NAME.as_ptr());
     }
+    for &name in &options.surface_extensions {
+        if !has_ext(name) {
+            return Err(VkError::Unsupported {
+                device: "the Vulkan instance".into(),
+                what: format!("presenting to this window system ({} is missing)", name.to_string_lossy()),
+            });
+        }
+        ext_names.push(name.as_ptr());
+    }
     let mut flags = vk::InstanceCreateFlags::empty();
     if has_ext(ash::khr::portability_enumeration::NAME) {
         ext_names.push(ash::khr::portability_enumeration::NAME.as_ptr());
@@ -428,7 +457,7 @@ fn create_instance(
 
 type DeviceParts = (vk::PhysicalDevice, ash::Device, u32, vk::PhysicalDeviceFeatures, bool);
 
-fn pick_and_create_device(instance: &ash::Instance, wanted: Option<&str>) -> VkResult<DeviceParts> {
+fn pick_and_create_device(instance: &ash::Instance, wanted: Option<&str>, presentation: bool) -> VkResult<DeviceParts> {
     // SAFETY: plain queries of a live instance.
     let physical = unsafe { instance.enumerate_physical_devices() }.call("vkEnumeratePhysicalDevices")?;
     let candidates: Vec<(Candidate, Option<u32>)> = physical.iter().map(|&pd| assess(instance, pd)).collect();
@@ -454,6 +483,16 @@ fn pick_and_create_device(instance: &ash::Instance, wanted: Option<&str>) -> VkR
     }
     if has_ext(ash::khr::portability_subset::NAME) {
         ext_names.push(ash::khr::portability_subset::NAME.as_ptr());
+    }
+    if presentation {
+        if !has_ext(ash::khr::swapchain::NAME) {
+            let name = candidates[i].0.name.clone();
+            return Err(VkError::Unsupported {
+                device: name,
+                what: "presenting to a window (VK_KHR_swapchain)".into(),
+            });
+        }
+        ext_names.push(ash::khr::swapchain::NAME.as_ptr());
     }
     let priorities = [1.0f32];
     let queues = [vk::DeviceQueueCreateInfo::default().queue_family_index(family).queue_priorities(&priorities)];

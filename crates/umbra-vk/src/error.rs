@@ -46,6 +46,9 @@ pub enum VkError {
     /// Device memory could not be allocated.
     #[error("memory allocation failed: {0}")]
     Allocation(#[from] gpu_allocator::AllocationError),
+    /// A window's raw handles could not be had (the window is gone or unsupported).
+    #[error("window handle: {0}")]
+    Window(String),
     /// A lock guarding shared state was poisoned by a panic on another thread.
     #[error("a lock inside umbra-vk was poisoned by a panic on another thread")]
     Poisoned,

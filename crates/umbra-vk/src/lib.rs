@@ -12,12 +12,17 @@
 //! - [`Recorder`]: a safe command recorder whose borrows keep resources alive until the
 //!   submission completes.
 //! - [`QueryPool`]: timestamps, occlusion, pipeline statistics.
+//! - [`Swapchain`]: a window's surface (through `ash-window`) and swapchain, presenting RGBA8
+//!   frames with frames in flight and recreation on resize; the context must be created with
+//!   [`ContextOptions::surface_extensions`] (from [`surface_extensions`]).
 //!
 //! ## Device requirements
 //! Required: Vulkan 1.3, `dynamicRendering`, `synchronization2`, a graphics queue.
 //! Optional (enabled when present, reported in [`Capabilities`]): `depthBounds`, `depthClamp`,
 //! `pipelineStatisticsQuery`, `geometryShader`, `wideLines`, `depthBiasClamp`,
 //! `fillModeNonSolid`, `VK_EXT_conservative_rasterization`; `VK_EXT_debug_utils` on the instance.
+//! Presenting: the window system's surface extensions on the instance ([`surface_extensions`])
+//! and `VK_KHR_swapchain` on the device.
 
 #![warn(missing_docs)]
 
@@ -33,6 +38,8 @@ mod pipeline;
 mod query;
 mod sampler;
 pub mod selection;
+mod surface;
+mod swapchain;
 mod validation;
 
 pub use ash;
@@ -51,6 +58,9 @@ pub use pipeline::{
     VertexAttribute,
 };
 pub use query::{QueryKind, QueryPool};
+pub use raw_window_handle;
 pub use sampler::{Sampler, SamplerDesc};
 pub use selection::DEVICE_ENV;
+pub use surface::surface_extensions;
+pub use swapchain::{Presented, Swapchain, SwapchainDesc};
 pub use validation::ValidationCounter;
