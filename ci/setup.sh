@@ -3,7 +3,7 @@
 #
 #   - Vulkan loader, Mesa lavapipe (llvmpipe), the Khronos validation layer, spirv-tools
 #   - cmake, g++, python3 (shaderc's `build-from-source` compiles glslang)
-#   - Xvfb, xwd (x11-apps) and the X libraries winit loads at run time, for the windowed
+#   - Xvfb, xwd (x11-apps), xdotool and the X libraries winit loads at run time, for the windowed
 #     examples' tests
 #   - SwiftShader, unpacked from the npm package @sparticuz/chromium into $UMBRA_CACHE
 #
@@ -18,7 +18,7 @@ SWS_ICD="$SWS_DIR/vk_swiftshader_icd.json"
 need_pkgs=()
 for p in libvulkan1 libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools \
          spirv-tools cmake g++ python3 brotli pkg-config fonts-dejavu-core \
-         xvfb x11-apps libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0; do
+         xvfb x11-apps xdotool libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || need_pkgs+=("$p")
 done
 # npm may come from Node's own distribution rather than Debian's: only install it when absent.

@@ -5,7 +5,8 @@
 //! Each test starts its own Xvfb (Debian `xvfb`, installed by ci/setup.sh with `x11-apps` for
 //! `xwd`) and runs the example binaries `cargo test` builds. SwiftShader's ICD has no X11
 //! surface extension: there the example must fail with its typed "unsupported" error, and the
-//! test says it skipped; lavapipe covers it.
+//! test says it skipped; lavapipe covers it. A last test drives a viewer with real X input
+//! (`xdotool`, through the X server like a user's keyboard and mouse).
 
 mod common;
 
@@ -13,6 +14,7 @@ use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::mpsc::{Receiver, RecvTimeoutError};
 use std::time::{Duration, Instant};
 
 /// The windowed run: 256×192, resized to 320×240 after 30 of its 60 frames.
@@ -48,6 +50,143 @@ fn hybrid_window() {
 #[test]
 fn effects_window() {
     check_example("effects", "effects.png");
+}
+
+/// Keys and mouse, sent through the X server by xdotool, drive the viewer: the technique, view,
+/// map-size and mask keys change what its title reports; with the animation paused, a mouse
+/// drag (camera) and the arrow keys (light) each change the image; Esc quits cleanly with zero
+/// validation messages.
+#[test]
+fn keys_and_mouse_drive_the_viewer() {
+    let dir = common::output_dir("window-input");
+    let x = Xvfb::start();
+    let mut child = Command::new(example("shadow_map"))
+        .args(["--window", "--frames", "100000", "--size", "256x192", "--out"])
+        .arg(&dir)
+        .env("DISPLAY", &x.display)
+        .env("UMBRA_VALIDATION", "1")
+        .env("RUST_BACKTRACE", "0")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start the example");
+    let stderr = child.stderr.take().expect("piped stderr");
+    let errors = std::thread::spawn(move || std::io::read_to_string(stderr).unwrap_or_default());
+    let lines = lines_of(child.stdout.take().expect("piped stdout"));
+    let Some(id) = wait_line(&lines, "window id ").map(|l| l["window id ".len()..].trim().to_owned()) else {
+        let status = child.wait().expect("example exit");
+        let stderr = errors.join().unwrap_or_default();
+        if skipped_on_swiftshader("shadow_map", &stderr) {
+            return;
+        }
+        panic!("no window ({status}): {stderr}");
+    };
+    let xdotool = |args: &[&str]| {
+        let out =
+            Command::new("xdotool").args(args).env("DISPLAY", &x.display).output().expect("xdotool (ci/setup.sh)");
+        assert!(out.status.success(), "xdotool {args:?}: {}", String::from_utf8_lossy(&out.stderr));
+        String::from_utf8_lossy(&out.stdout).trim().to_owned()
+    };
+    let title = || xdotool(&["getwindowname", &id]);
+    let wait_title = |what: &dyn Fn(&str) -> bool, why: &str| {
+        let deadline = Instant::now() + Duration::from_secs(90);
+        loop {
+            let t = title();
+            if what(&t) {
+                println!("title: {t}");
+                return t;
+            }
+            assert!(Instant::now() < deadline, "{why}: the title stayed {t:?}");
+            std::thread::sleep(Duration::from_millis(200));
+        }
+    };
+    let field = |t: &str, name: &str| t.split(" · ").find(|f| f.starts_with(name)).unwrap_or_default().to_owned();
+    xdotool(&["windowfocus", "--sync", &id]);
+    wait_title(&|t| t.contains("GPU"), "the first frame's title");
+    xdotool(&["key", "2"]);
+    wait_title(&|t| t.contains(" · shadow_volume · "), "key 2 selects shadow volumes");
+    xdotool(&["key", "4"]);
+    wait_title(&|t| t.contains(" · hybrid · "), "key 4 selects the hybrid");
+    xdotool(&["key", "v"]);
+    wait_title(&|t| t.contains("view classification"), "V shows the classification");
+    xdotool(&["key", "m"]);
+    wait_title(&|t| t.contains("map 512"), "M cycles the map size");
+    let mask = field(&title(), "mask ");
+    xdotool(&["key", "k"]);
+    wait_title(&|t| !field(t, "mask ").is_empty() && field(t, "mask ") != mask, "K cycles the mask");
+    xdotool(&["key", "v", "v", "v", "p"]);
+    wait_title(&|t| t.contains("paused") && t.contains("view image"), "P pauses, V back to the image");
+    let shot = |lines: &Receiver<String>| {
+        xdotool(&["key", "F12"]);
+        let line = wait_line(lines, "screenshot of frame").expect("F12 saves a screenshot");
+        let path = line.split("): ").nth(1).and_then(|p| p.split(" (animation").next()).expect("screenshot path");
+        rgba(&image::open(path).expect("screenshot"))
+    };
+    let still = shot(&lines);
+    assert_eq!(still.as_raw(), shot(&lines).as_raw(), "paused and untouched, two frames must be the same");
+    xdotool(&["mousemove", "--window", &id, "100", "100", "mousedown", "1"]);
+    xdotool(&["mousemove", "--window", &id, "170", "130", "mouseup", "1"]);
+    let orbited = shot(&lines);
+    assert_ne!(still.as_raw(), orbited.as_raw(), "a left drag must orbit the camera");
+    xdotool(&["keydown", "Right"]);
+    std::thread::sleep(Duration::from_millis(600));
+    xdotool(&["keyup", "Right"]);
+    let lit = shot(&lines);
+    assert_ne!(orbited.as_raw(), lit.as_raw(), "the right arrow must move the light");
+    xdotool(&["key", "Escape"]);
+    let status = child.wait().expect("example exit");
+    let stderr = errors.join().unwrap_or_default();
+    let rest: Vec<String> = lines.iter().collect();
+    println!("{}", rest.join("\n"));
+    assert!(status.success(), "Esc must quit cleanly: {status}\n{stderr}");
+    assert!(
+        rest.iter().any(|l| l == "validation messages: 0 errors, 0 warnings"),
+        "validation messages:\n{}\n{stderr}",
+        rest.join("\n")
+    );
+}
+
+/// Lines of a child's output, as they come.
+fn lines_of(out: impl std::io::Read + Send + 'static) -> Receiver<String> {
+    let (send, receive) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        for line in BufReader::new(out).lines().map_while(Result::ok) {
+            if send.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    receive
+}
+
+/// The next line starting with `prefix` (others are skipped), within a minute and a half;
+/// `None` when the output ends first.
+fn wait_line(lines: &Receiver<String>, prefix: &str) -> Option<String> {
+    let deadline = Instant::now() + Duration::from_secs(90);
+    loop {
+        let left = deadline.saturating_duration_since(Instant::now());
+        match lines.recv_timeout(left) {
+            Ok(l) if l.starts_with(prefix) => return Some(l),
+            Ok(_) => {}
+            Err(RecvTimeoutError::Disconnected) => return None,
+            Err(RecvTimeoutError::Timeout) => panic!("no line starting with {prefix:?} in 90 s"),
+        }
+    }
+}
+
+/// On SwiftShader, whose ICD has no X11 surface extension, the example must stop with its
+/// typed "unsupported" error; the skip is printed. Anywhere else nothing is skipped.
+fn skipped_on_swiftshader(name: &str, stderr: &str) -> bool {
+    let device = std::env::var("UMBRA_DEVICE").unwrap_or_default().to_lowercase();
+    let unsupported = stderr.contains("unsupported on") && stderr.contains("window");
+    if device.contains("swiftshader") && unsupported {
+        println!(
+            "SKIPPED {name} --window on SwiftShader: its ICD has no X11 surface extension, and the example \
+             said so with its typed error; covered on lavapipe"
+        );
+        return true;
+    }
+    false
 }
 
 /// An Xvfb server on a display of its own, stopped on drop.
@@ -95,8 +234,20 @@ impl Drop for Xvfb {
     }
 }
 
-/// `target/<profile>/examples/<name>`, built by `cargo test` beside this test binary.
+/// `target/<profile>/examples/<name>`, beside this test binary, built now by the cargo that
+/// runs the tests (`cargo test --test window` alone would not rebuild the examples).
 fn example(name: &str) -> PathBuf {
+    static BUILT: std::sync::Once = std::sync::Once::new();
+    BUILT.call_once(|| {
+        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+        let release = std::env::current_exe().is_ok_and(|e| e.components().any(|c| c.as_os_str() == "release"));
+        let status = Command::new(cargo)
+            .args(["build", "--examples", "--manifest-path", concat!(env!("CARGO_MANIFEST_DIR"), "/Cargo.toml")])
+            .args(release.then_some("--release"))
+            .status()
+            .expect("run cargo build --examples");
+        assert!(status.success(), "cargo build --examples failed");
+    });
     let exe = std::env::current_exe().expect("test binary path");
     let dir = exe.parent().and_then(Path::parent).expect("target/<profile>");
     let path = dir.join("examples").join(name);
@@ -165,13 +316,7 @@ fn check_example(name: &str, headless_png: &str) {
     let shot = dir.join("window.png");
     let _ = std::fs::remove_file(&shot);
     let run = run_windowed(name, &x, &shot, &dir);
-    let device = std::env::var("UMBRA_DEVICE").unwrap_or_default().to_lowercase();
-    let unsupported = run.stderr.contains("unsupported on") && run.stderr.contains("window");
-    if !run.success && device.contains("swiftshader") && unsupported {
-        println!(
-            "SKIPPED {name} --window on SwiftShader: its ICD has no X11 surface extension, and the example \
-             said so with its typed error; covered on lavapipe"
-        );
+    if !run.success && skipped_on_swiftshader(name, &run.stderr) {
         return;
     }
     assert!(run.success, "{name} --window failed\nstdout:\n{}\nstderr:\n{}", run.stdout, run.stderr);
@@ -185,6 +330,18 @@ fn check_example(name: &str, headless_png: &str) {
         .and_then(|n| n.parse().ok())
         .expect("the run's summary line");
     assert!(recreations >= 1, "{name}: the resize did not recreate the swapchain:\n{}", run.stdout);
+    // Nothing per frame: a staging buffer per frame in flight (2) per size, one capture buffer.
+    let buffers: u32 = run
+        .stdout
+        .split(" presentation buffer(s) allocated")
+        .next()
+        .and_then(|s| s.rsplit(' ').next())
+        .and_then(|n| n.parse().ok())
+        .expect("the run's summary line");
+    assert!(
+        buffers <= 2 * (recreations + 1) + 1,
+        "{name}: {buffers} presentation buffers for {FRAMES} frames and {recreations} recreations"
+    );
     assert!(
         run.stdout.contains("validation messages: 0 errors, 0 warnings"),
         "{name}: validation messages:\n{}\n{}",

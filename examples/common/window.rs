@@ -464,27 +464,49 @@ impl Viewer {
         let fps = (self.frames - self.title_frames) as f64 / now.duration_since(self.title_at).as_secs_f64().max(1e-6);
         self.title_at = now;
         self.title_frames = self.frames;
-        let title = title(self.name, frame, &self.settings, self.selected, fps, note.or(self.message.as_deref()));
+        let status = Status {
+            settings: self.settings,
+            map: MAP_SIZES[self.settings.map_size],
+            mask: self.renderer.mask(),
+            selected: self.selected,
+            fps,
+            note: note.or(self.message.as_deref()),
+        };
+        let title = title(self.name, frame, &status);
         self.window.set_title(&title);
     }
 
     fn summary(&self) -> String {
         let secs = self.started.elapsed().as_secs_f64();
         format!(
-            "presented {} frames in {secs:.1} s ({:.1} fps), {} swapchain recreation(s), last size {}x{}",
+            "presented {} frames in {secs:.1} s ({:.1} fps), {} swapchain recreation(s), {} presentation buffer(s) \
+             allocated, last size {}x{}",
             self.frames,
             self.frames as f64 / secs.max(1e-6),
             self.swapchain.recreations(),
+            self.swapchain.buffers_created(),
             self.desc.width,
             self.desc.height
         )
     }
 }
 
+/// What the title shows besides the frame's report.
+struct Status<'a> {
+    settings: Settings,
+    /// The shadow-map size `M` chose (`None`: the example's).
+    map: Option<u32>,
+    mask: MaskKind,
+    selected: usize,
+    fps: f64,
+    note: Option<&'a str>,
+}
+
 /// The window title: technique and settings, GPU time per pass, fill counts, frame rate.
-fn title(name: &str, frame: &Frame, s: &Settings, selected: usize, fps: f64, note: Option<&str>) -> String {
-    let r = &frame.report;
+fn title(name: &str, frame: &Frame, status: &Status) -> String {
+    let (r, s) = (&frame.report, &status.settings);
     let technique = s.technique.map_or("as loaded", |t| t.name());
+    let map = status.map.map_or("default".into(), |m| m.to_string());
     let mut passes: Vec<_> = r.passes.iter().filter_map(|p| p.gpu_ms.map(|t| (t, p.name.as_str()))).collect();
     passes.sort_by(|a, b| b.0.total_cmp(&a.0));
     let passes: Vec<String> = passes.iter().take(5).map(|(t, n)| format!("{n} {t:.2}")).collect();
@@ -502,20 +524,22 @@ fn title(name: &str, frame: &Frame, s: &Settings, selected: usize, fps: f64, not
     }
     let total = r.total_gpu_ms.map_or("n/a".into(), |t| format!("{t:.2} ms"));
     let mut title = format!(
-        "umbra {name} · {}x{} · {technique} · view {} (L{selected}) · GPU {total} [{}]",
+        "umbra {name} · {}x{} · {technique} · map {map} · mask {} · view {} (L{}) · GPU {total} [{}]",
         frame.width,
         frame.height,
+        status.mask.name(),
         s.view.name(),
+        status.selected,
         passes.join(", ")
     );
     if !fill.is_empty() {
         title += &format!(" · {}", fill.join(", "));
     }
-    title += &format!(" · {fps:.1} fps");
+    title += &format!(" · {:.1} fps", status.fps);
     if s.paused {
         title += " · paused";
     }
-    if let Some(n) = note {
+    if let Some(n) = status.note {
         title += &format!(" · {n}");
     }
     title

@@ -90,6 +90,8 @@ pub struct Swapchain {
     next: usize,
     capture: Option<Buffer>,
     recreations: u32,
+    /// Staging and capture buffers created so far (only when the size changes).
+    buffers_created: u32,
     /// Destroyed after the swapchain (field order).
     surface: Surface,
 }
@@ -129,6 +131,7 @@ impl Swapchain {
             next: 0,
             capture: None,
             recreations: 0,
+            buffers_created: 0,
             surface,
         };
         for i in 0..desc.frames_in_flight.max(1) {
@@ -153,6 +156,12 @@ impl Swapchain {
     /// Swapchains created after the first (resizes and out-of-date recoveries).
     pub fn recreations(&self) -> u32 {
         self.recreations
+    }
+
+    /// Staging and capture buffers created so far: one per frame in flight at each size the
+    /// swapchain had, plus one per size a capture was taken at. A steady window allocates none.
+    pub fn buffers_created(&self) -> u32 {
+        self.buffers_created
     }
 
     /// Whether [`Swapchain::present`] can read back what it presents (the surface allows
@@ -237,6 +246,7 @@ impl Swapchain {
             let name = format!("swapchain staging {slot}");
             self.slots[slot].staging = None;
             self.slots[slot].staging = Some(Buffer::new(&self.ctx, &name, desc)?);
+            self.buffers_created += 1;
         }
         let bgra = matches!(self.format.format, vk::Format::B8G8R8A8_UNORM | vk::Format::B8G8R8A8_SRGB);
         let staging = self.slots[slot].staging.as_mut().ok_or(VkError::Poisoned)?;
@@ -261,6 +271,7 @@ impl Swapchain {
         if self.capture.as_ref().map(|b| b.desc.size) != Some(size) {
             self.capture = None;
             self.capture = Some(Buffer::new(&self.ctx, "swapchain capture", BufferDesc::readback(size))?);
+            self.buffers_created += 1;
         }
         Ok(())
     }
