@@ -18,7 +18,7 @@ pub const BINDINGS: &[(&str, &str)] = &[
     ("V", "cycle the view: image, classification, volume overdraw, stencil"),
     ("Space or P", "pause or resume the animation (light 0 orbits the scene)"),
     ("R", "reset camera, lights and animation"),
-    ("F12", "save a screenshot (--screenshot, or <out>/<example>-window-<frame>.png)"),
+    ("F12", "save a screenshot (the --screenshot file, or OUT/EXAMPLE-window-FRAME.png)"),
     ("Esc", "quit"),
 ];
 
