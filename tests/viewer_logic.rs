@@ -62,6 +62,12 @@ fn the_rig_starts_at_the_scene_camera_and_moves_only_when_asked() {
     let closer = rig.camera();
     let d = |c: &Camera| c.position.distance(c.target);
     assert!((d(&closer) - 0.9 * d(&camera)).abs() < 1e-3, "a wheel line is 10% closer");
+    let before = rig.camera();
+    rig.pan(100.0, 0.0);
+    let panned = rig.camera();
+    assert!(panned.target.distance(before.target) > 0.1, "a drag pans the target");
+    assert!((d(&panned) - d(&before)).abs() < 1e-3, "panning keeps the distance");
+    assert!((panned.target - before.target).dot(before.target - before.position) < 1e-3, "in the view plane");
     rig.fly(1.0, 0.0, 0.0, 1.0);
     assert!(rig.camera().target.distance(camera.target) > 0.99, "flying moves the target");
     rig.reset();
