@@ -60,19 +60,8 @@ fn effects_window() {
 fn keys_and_mouse_drive_the_viewer() {
     let dir = common::output_dir("window-input");
     let x = Xvfb::start();
-    let mut child = Command::new(example("shadow_map"))
-        .args(["--window", "--frames", "100000", "--size", "256x192", "--out"])
-        .arg(&dir)
-        .env("DISPLAY", &x.display)
-        .env("UMBRA_VALIDATION", "1")
-        .env("RUST_BACKTRACE", "0")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("start the example");
-    let stderr = child.stderr.take().expect("piped stderr");
-    let errors = std::thread::spawn(move || std::io::read_to_string(stderr).unwrap_or_default());
-    let lines = lines_of(child.stdout.take().expect("piped stdout"));
+    let args = ["--window", "--frames", "100000", "--size", "256x192", "--out"].map(str::to_owned);
+    let (mut child, errors, lines) = spawn_windowed("shadow_map", &x, &args, &dir);
     let Some(id) = wait_line(&lines, "window id ").map(|l| l["window id ".len()..].trim().to_owned()) else {
         let status = child.wait().expect("example exit");
         let stderr = errors.join().unwrap_or_default();
@@ -144,6 +133,30 @@ fn keys_and_mouse_drive_the_viewer() {
         "validation messages:\n{}\n{stderr}",
         rest.join("\n")
     );
+}
+
+/// Starts example `name` with `args` and `out` on display `x`, validation on: the child, its
+/// stderr (read to the end on a thread) and its stdout lines as they come.
+fn spawn_windowed(
+    name: &str,
+    x: &Xvfb,
+    args: &[String],
+    out: &Path,
+) -> (Child, std::thread::JoinHandle<String>, Receiver<String>) {
+    let mut child = Command::new(example(name))
+        .args(args)
+        .arg(out)
+        .env("DISPLAY", &x.display)
+        .env("UMBRA_VALIDATION", "1")
+        .env("RUST_BACKTRACE", "0")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start the example");
+    let stderr = child.stderr.take().expect("piped stderr");
+    let errors = std::thread::spawn(move || std::io::read_to_string(stderr).unwrap_or_default());
+    let lines = lines_of(child.stdout.take().expect("piped stdout"));
+    (child, errors, lines)
 }
 
 /// Lines of a child's output, as they come.
@@ -242,7 +255,9 @@ fn example(name: &str) -> PathBuf {
         let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
         let release = std::env::current_exe().is_ok_and(|e| e.components().any(|c| c.as_os_str() == "release"));
         let status = Command::new(cargo)
-            .args(["build", "--examples", "--manifest-path", concat!(env!("CARGO_MANIFEST_DIR"), "/Cargo.toml")])
+            // --workspace: the same feature set as `cargo test --workspace`, so nothing rebuilds.
+            .args(["build", "--workspace", "--examples", "--manifest-path"])
+            .arg(concat!(env!("CARGO_MANIFEST_DIR"), "/Cargo.toml"))
             .args(release.then_some("--release"))
             .status()
             .expect("run cargo build --examples");
@@ -265,27 +280,25 @@ struct WindowedRun {
 }
 
 fn run_windowed(name: &str, x: &Xvfb, screenshot: &Path, out: &Path) -> WindowedRun {
-    let mut child = Command::new(example(name))
-        .args(["--window", "--frames", &FRAMES.to_string(), "--size", &format!("{}x{}", START.0, START.1)])
-        .args(["--resize-at", &format!("{}:{}x{}", FRAMES / 2, RESIZED.0, RESIZED.1)])
-        .arg("--screenshot")
-        .arg(screenshot)
-        .args(["--hold", "3", "--out"])
-        .arg(out)
-        .env("DISPLAY", &x.display)
-        .env("UMBRA_VALIDATION", "1")
-        .env("RUST_BACKTRACE", "0")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("start the example");
-    let stderr = child.stderr.take().expect("piped stderr");
-    let errors = std::thread::spawn(move || std::io::read_to_string(stderr).unwrap_or_default());
+    let args = [
+        "--window".into(),
+        "--frames".into(),
+        FRAMES.to_string(),
+        "--size".into(),
+        format!("{}x{}", START.0, START.1),
+        "--resize-at".into(),
+        format!("{}:{}x{}", FRAMES / 2, RESIZED.0, RESIZED.1),
+        "--screenshot".into(),
+        screenshot.display().to_string(),
+        "--hold".into(),
+        "3".into(),
+        "--out".into(),
+    ];
+    let (mut child, errors, lines) = spawn_windowed(name, x, &args, out);
     let mut stdout = String::new();
     let mut window = None;
     let mut xwd = None;
-    for line in BufReader::new(child.stdout.take().expect("piped stdout")).lines() {
-        let line = line.expect("example output");
+    for line in lines {
         if let Some(id) = line.strip_prefix("window id ") {
             window = Some(id.trim().to_owned());
         }
@@ -322,22 +335,10 @@ fn check_example(name: &str, headless_png: &str) {
     assert!(run.success, "{name} --window failed\nstdout:\n{}\nstderr:\n{}", run.stdout, run.stderr);
     println!("{}", run.stdout.lines().filter(|l| !l.starts_with("  ")).collect::<Vec<_>>().join("\n"));
     assert!(run.stdout.contains(&format!("presented {FRAMES} frames")), "{name}: not {FRAMES} frames:\n{}", run.stdout);
-    let recreations: u32 = run
-        .stdout
-        .split(" swapchain recreation(s)")
-        .next()
-        .and_then(|s| s.rsplit(' ').next())
-        .and_then(|n| n.parse().ok())
-        .expect("the run's summary line");
+    let recreations = count_before(&run.stdout, " swapchain recreation(s)");
     assert!(recreations >= 1, "{name}: the resize did not recreate the swapchain:\n{}", run.stdout);
     // Nothing per frame: a staging buffer per frame in flight (2) per size, one capture buffer.
-    let buffers: u32 = run
-        .stdout
-        .split(" presentation buffer(s) allocated")
-        .next()
-        .and_then(|s| s.rsplit(' ').next())
-        .and_then(|n| n.parse().ok())
-        .expect("the run's summary line");
+    let buffers = count_before(&run.stdout, " presentation buffer(s) allocated");
     assert!(
         buffers <= 2 * (recreations + 1) + 1,
         "{name}: {buffers} presentation buffers for {FRAMES} frames and {recreations} recreations"
@@ -375,6 +376,17 @@ fn check_example(name: &str, headless_png: &str) {
     let diff = max_difference(&without_alpha(&shown), &without_alpha(&window));
     println!("{name}: xwd of the window vs the screenshot: max difference {diff}/255");
     assert!(diff <= 1, "{name}: the X server shows pixels {diff}/255 away from the presented frame");
+}
+
+/// The number just before `suffix` in the run's summary line.
+fn count_before(stdout: &str, suffix: &str) -> u32 {
+    let line = stdout.lines().find(|l| l.contains(suffix)).unwrap_or_else(|| panic!("no {suffix:?} in:\n{stdout}"));
+    let before = &line[..line.find(suffix).unwrap_or(0)];
+    before
+        .rsplit(' ')
+        .next()
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no count before {suffix:?}: {line}"))
 }
 
 fn rgba(img: &image::DynamicImage) -> image::RgbaImage {
