@@ -258,12 +258,20 @@ impl Viewer {
             Err(e) => return Err(e.into()),
         };
         let last = self.args.frames == Some(self.frames + 1);
-        let capture = (last && self.args.screenshot.is_some()) || self.screenshot_now;
+        let wanted = (last && self.args.screenshot.is_some()) || self.screenshot_now;
         let (pixels, note) = views::pixels(self.settings.view, &frame, self.selected, &mut self.scratch);
-        let capture = capture && self.swapchain.can_capture();
+        // Read back from the swapchain image; where the surface forbids that, the pixels copied
+        // into it (the same bytes) stand in.
+        let capture = wanted && self.swapchain.can_capture();
+        let copied = (wanted && !capture).then(|| pixels.to_vec());
         let presented = self.swapchain.present(pixels, frame.width, frame.height, capture)?;
-        if let Some(shot) = presented.as_ref().and_then(|p| p.capture.as_ref().map(|c| (c, p.extent))) {
-            self.save_screenshot(shot.0, shot.1.width, shot.1.height, &frame, time)?;
+        let shot = match (presented.and_then(|p| p.capture.map(|c| (c, p.extent))), copied) {
+            (Some((c, extent)), _) => Some((c, extent.width, extent.height)),
+            (None, Some(c)) => Some((c, frame.width, frame.height)),
+            (None, None) => None,
+        };
+        if let Some((rgba, width, height)) = shot {
+            self.save_screenshot(&rgba, width, height, &frame, time)?;
         }
         self.screenshot_now = false;
         self.frames += 1;
