@@ -1,4 +1,4 @@
-//! Every procedural scene and every shared asset renders, validation-clean, and shows something.
+//! Every procedural scene and every asset in `assets/` renders, validation-clean, and shows something.
 
 mod common;
 
@@ -38,7 +38,7 @@ fn every_procedural_scene_renders_validation_clean() {
 }
 
 #[test]
-fn every_shared_asset_renders_validation_clean() {
+fn every_asset_renders_validation_clean() {
     let dir = common::assets();
     common::with_context(|ctx| {
         let mut r = Renderer::new(ctx, RendererDesc::new(common::SIZE.0, common::SIZE.1)).unwrap();

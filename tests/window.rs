@@ -143,7 +143,7 @@ fn spawn_windowed(
     args: &[String],
     out: &Path,
 ) -> (Child, std::thread::JoinHandle<String>, Receiver<String>) {
-    let mut child = Command::new(example(name))
+    let mut child = Command::new(common::example(name))
         .args(args)
         .arg(out)
         .env("DISPLAY", &x.display)
@@ -247,29 +247,6 @@ impl Drop for Xvfb {
     }
 }
 
-/// `target/<profile>/examples/<name>`, beside this test binary, built now by the cargo that
-/// runs the tests (`cargo test --test window` alone would not rebuild the examples).
-fn example(name: &str) -> PathBuf {
-    static BUILT: std::sync::Once = std::sync::Once::new();
-    BUILT.call_once(|| {
-        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-        let release = std::env::current_exe().is_ok_and(|e| e.components().any(|c| c.as_os_str() == "release"));
-        let status = Command::new(cargo)
-            // --workspace: the same feature set as `cargo test --workspace`, so nothing rebuilds.
-            .args(["build", "--workspace", "--examples", "--manifest-path"])
-            .arg(concat!(env!("CARGO_MANIFEST_DIR"), "/Cargo.toml"))
-            .args(release.then_some("--release"))
-            .status()
-            .expect("run cargo build --examples");
-        assert!(status.success(), "cargo build --examples failed");
-    });
-    let exe = std::env::current_exe().expect("test binary path");
-    let dir = exe.parent().and_then(Path::parent).expect("target/<profile>");
-    let path = dir.join("examples").join(name);
-    assert!(path.is_file(), "{} missing: cargo test builds the examples", path.display());
-    path
-}
-
 /// What the windowed run printed and wrote.
 struct WindowedRun {
     stdout: String,
@@ -355,7 +332,7 @@ fn check_example(name: &str, headless_png: &str) {
 
     // The same frame headless: same size, same animation time, no window.
     let headless = dir.join("headless");
-    let out = Command::new(example(name))
+    let out = Command::new(common::example(name))
         .args(["--size", &format!("{}x{}", RESIZED.0, RESIZED.1), "--time", time, "--warmup", "0", "--out"])
         .arg(&headless)
         .env("UMBRA_VALIDATION", "1")

@@ -25,13 +25,36 @@ pub fn with_context<R>(body: impl FnOnce(&Context) -> R) -> R {
     out
 }
 
-/// `../shared/assets` beside the checkout, or `UMBRA_ASSETS`.
+/// The repository's `assets/` folder, or `UMBRA_ASSETS`.
 pub fn assets() -> PathBuf {
     let dir = std::env::var_os("UMBRA_ASSETS")
         .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/assets"));
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets"));
     assert!(dir.is_dir(), "assets folder {} missing (set UMBRA_ASSETS)", dir.display());
     dir
+}
+
+/// `target/<profile>/examples/<name>`, beside this test binary, built now by the cargo that
+/// runs the tests (`cargo test --test window` alone would not rebuild the examples).
+pub fn example(name: &str) -> PathBuf {
+    static BUILT: std::sync::Once = std::sync::Once::new();
+    BUILT.call_once(|| {
+        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+        let release = std::env::current_exe().is_ok_and(|e| e.components().any(|c| c.as_os_str() == "release"));
+        let status = std::process::Command::new(cargo)
+            // --workspace: the same feature set as `cargo test --workspace`, so nothing rebuilds.
+            .args(["build", "--workspace", "--examples", "--manifest-path"])
+            .arg(concat!(env!("CARGO_MANIFEST_DIR"), "/Cargo.toml"))
+            .args(release.then_some("--release"))
+            .status()
+            .expect("run cargo build --examples");
+        assert!(status.success(), "cargo build --examples failed");
+    });
+    let exe = std::env::current_exe().expect("test binary path");
+    let dir = exe.parent().and_then(std::path::Path::parent).expect("target/<profile>");
+    let path = dir.join("examples").join(name);
+    assert!(path.is_file(), "{} missing: cargo test builds the examples", path.display());
+    path
 }
 
 /// Where tests write their images for people to look at.

@@ -2,7 +2,7 @@
 //! that use it, and a topology report (closed? boundary and non-manifold edges).
 //!
 //! Everitt–Kilgard's robust volumes need closed 2-manifold casters; real meshes are not
-//! (`shared/assets/README.md`: the teapot and the bunny are open, suzanne is also
+//! (the repository's `assets/README.md`: the teapot and the bunny are open, suzanne is also
 //! non-manifold). The report says what a mesh is, and the volume builder treats boundary and
 //! non-manifold edges so that no crack or inverted shadow appears.
 
@@ -90,7 +90,7 @@ impl Adjacency {
 
 impl TopologyReport {
     /// The topology of an indexed triangle list as authored: an edge is one unordered
-    /// vertex-index pair, with no welding (how `shared/assets/README.md` counts).
+    /// vertex-index pair, with no welding (how the repository's `assets/README.md` counts).
     pub fn of_indices(vertex_count: usize, indices: &[u32]) -> Self {
         let triangles: Vec<[u32; 3]> = indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
         edges_of(vertex_count, &triangles).1

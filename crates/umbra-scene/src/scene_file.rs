@@ -29,7 +29,7 @@
 //! [[mesh]]
 //! name = "bunny"
 //! kind = "file"
-//! path = "../shared/assets/stanford-bunny.glb"   # relative to the scene file
+//! path = "../assets/stanford-bunny.glb"   # relative to the scene file
 //!
 //! [[object]]
 //! mesh = "bunny"

@@ -113,16 +113,16 @@ fn malformed_files_give_errors_not_panics() {
     assert!(matches!(import_gltf(std::path::Path::new("/nonexistent/x.glb")), Err(SceneError::Gltf { .. })));
 }
 
-/// `../shared/assets` beside the checkout, or `UMBRA_ASSETS`.
+/// The repository's `assets/` folder, or `UMBRA_ASSETS`.
 fn assets() -> PathBuf {
     std::env::var_os("UMBRA_ASSETS")
         .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/assets"))
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../assets"))
 }
 
 #[test]
 fn the_topology_report_reproduces_the_assets_readme_table() {
-    // shared/assets/README.md: triangles, boundary edges, non-manifold edges, closed.
+    // assets/README.md: triangles, boundary edges, non-manifold edges, closed.
     let table = [
         ("spot.glb", 5_856, 0, 0, true),
         ("fandisk.glb", 12_946, 0, 0, true),
@@ -147,7 +147,7 @@ fn the_topology_report_reproduces_the_assets_readme_table() {
 }
 
 #[test]
-fn every_shared_asset_loads_with_its_documented_triangle_count() {
+fn every_asset_loads_with_its_documented_triangle_count() {
     let expected = [
         ("spot.glb", 5_856),
         ("fandisk.glb", 12_946),
