@@ -104,6 +104,7 @@ fn main() -> anyhow::Result<()> {
             _ => {}
         }
     }
+    common::warn_open_casters(&frame.report);
     common::write_outputs(&args.common, "hybrid", &frame)?;
     if args.debug_view {
         for d in &frame.diagnostics {

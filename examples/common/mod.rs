@@ -99,6 +99,15 @@ pub fn init_logging() {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("info")).init();
 }
 
+/// Prints one warning line per open or non-manifold caster mesh (the frame report's
+/// `scene.topology`), for the examples whose shadow volumes depend on closed meshes.
+#[allow(dead_code)]
+pub fn warn_open_casters(report: &umbra::shadows::FrameReport) {
+    for warning in report.scene.topology.iter().filter_map(umbra::shadows::MeshTopology::warning) {
+        println!("{warning}");
+    }
+}
+
 /// Writes `<out>/<stem>.png` and `<out>/<stem>.json` and prints a summary of the report.
 pub fn write_outputs(args: &CommonArgs, stem: &str, frame: &umbra::shadows::Frame) -> anyhow::Result<()> {
     std::fs::create_dir_all(&args.out)?;

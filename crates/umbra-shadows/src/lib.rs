@@ -34,7 +34,7 @@ pub use plan::{
     SilhouetteMapReport,
 };
 pub use renderer::{Frame, Renderer, RendererDesc, COLOR_FORMAT};
-pub use report::{FrameReport, SceneSummary};
+pub use report::{FrameReport, MeshTopology, SceneSummary, TopologySource, VolumeConstruction};
 pub use shadow_map::{DepthBias, ShadowFilter, ShadowMapSettings};
 pub use shadow_volume::{FarPlane, ShadowVolumeSettings, VolumeMode};
 pub use timing::PassReport;

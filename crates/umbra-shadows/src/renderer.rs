@@ -338,10 +338,9 @@ impl Renderer {
         )?;
         let uses = |l: &LightPlan, t: Technique| l.recorded && l.technique == t;
         let shadows = |l: &LightPlan, t: Technique| uses(l, t) && l.shadowed;
-        let uses_volumes = lights.iter().any(|l| shadows(l, Technique::ShadowVolume) || shadows(l, Technique::Hybrid));
-        if uses_volumes || lights.iter().any(|l| shadows(l, Technique::SilhouetteMap)) {
-            self.update_adjacency(scene);
-        }
+        // Welded connectivity of every mesh (cached): volumes and silhouette maps use it, and
+        // the report lists every mesh's topology.
+        self.update_adjacency(scene);
         let adjacency: Vec<Arc<Adjacency>> = self.adjacency.iter().map(|(_, a)| Arc::clone(a)).collect();
 
         // Shadow maps (also the depth maps of silhouette maps): fit each light's views, size
@@ -953,7 +952,7 @@ impl Renderer {
             device: caps.device_name.clone(),
             driver: format!("{} {}", caps.driver_name, caps.driver_info).trim().to_owned(),
             capabilities: caps.clone(),
-            scene: SceneSummary::of(scene),
+            scene: SceneSummary::of(scene, &adjacency),
             width: self.desc.width,
             height: self.desc.height,
             shadow_map_settings: settings,
