@@ -59,54 +59,173 @@ pub fn pareto_front(points: &[(f64, f64)]) -> Vec<usize> {
     front
 }
 
-/// x: median GPU ms, y: wrong-pixel %, one point per configuration, the Pareto front drawn.
+/// Where techniques that score exactly 0 wrong pixels sit on the log axis: a quarter of the
+/// smallest non-zero score, within [1e-5 %, 1e-2 %] (1e-3 % when every score is 0).
+pub fn zero_floor(percents: &[f64]) -> f64 {
+    let smallest = percents.iter().copied().filter(|&p| p > 0.0).fold(f64::INFINITY, f64::min);
+    if smallest.is_finite() {
+        (smallest / 4.0).clamp(1e-5, 1e-2)
+    } else {
+        1e-3
+    }
+}
+
+/// x: median GPU ms, y: wrong-pixel % on a log scale (scores of 0 drawn hollow on a floor
+/// line), one labelled point per configuration, the Pareto front drawn.
 pub fn accuracy_vs_time(records: &[&Record], scene: &str, path: &Path) -> BenchResult<()> {
-    let points: Vec<(f64, f64)> =
-        records.iter().filter_map(|r| Some((r.gpu_ms?.median, 100.0 * r.accuracy.wrong_fraction))).collect();
     let timed: Vec<&&Record> = records.iter().filter(|r| r.gpu_ms.is_some()).collect();
+    let points: Vec<(f64, f64)> =
+        timed.iter().filter_map(|r| Some((r.gpu_ms?.median, 100.0 * r.accuracy.wrong_fraction))).collect();
+    let floor = zero_floor(&points.iter().map(|p| p.1).collect::<Vec<_>>());
+    let shown: Vec<(f64, f64)> = points.iter().map(|&(x, y)| (x, y.max(floor))).collect();
     let err = plot_error(path);
     let root = BitMapBackend::new(path, SIZE).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(Box::new(e)))?;
-    let x_max = points.iter().map(|p| p.0).fold(0.0, f64::max).max(1e-3) * 1.15;
-    let y_max = points.iter().map(|p| p.1).fold(0.0, f64::max).max(0.05) * 1.15;
+    let x_max = points.iter().map(|p| p.0).fold(0.0, f64::max).max(1e-3) * 1.2;
+    let y_max = shown.iter().map(|p| p.1).fold(floor, f64::max) * 3.0;
     let mut chart = ChartBuilder::on(&root)
         .caption(format!("{scene}: accuracy vs GPU time"), ("sans-serif", 24))
         .margin(16)
         .x_label_area_size(48)
-        .y_label_area_size(64)
-        .build_cartesian_2d(0.0..x_max, 0.0..y_max)
+        .y_label_area_size(72)
+        .build_cartesian_2d(0.0..x_max, (floor / 2.0..y_max).log_scale())
         .map_err(|e| err(Box::new(e)))?;
     chart
         .configure_mesh()
         .x_desc("median GPU time per frame (ms)")
-        .y_desc("wrong pixels (%)")
+        .y_desc(format!("wrong pixels (%, log; 0 drawn at {floor:.0e})"))
+        .y_label_formatter(&|v| format!("{v:.0e}"))
         .draw()
         .map_err(|e| err(Box::new(e)))?;
-    let front: Vec<(f64, f64)> = pareto_front(&points).into_iter().map(|i| points[i]).collect();
+    let front: Vec<(f64, f64)> = pareto_front(&points).into_iter().map(|i| shown[i]).collect();
     chart
         .draw_series(LineSeries::new(front, ShapeStyle::from(&BLACK.mix(0.5)).stroke_width(2)))
         .map_err(|e| err(Box::new(e)))?
         .label("Pareto front")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLACK.mix(0.5)));
-    for (r, p) in timed.iter().zip(&points) {
+    chart
+        .draw_series(LineSeries::new([(0.0, floor), (x_max, floor)], BLACK.mix(0.2)))
+        .map_err(|e| err(Box::new(e)))?
+        .label("0 wrong pixels (hollow)")
+        .legend(|(x, y)| Circle::new((x + 8, y), 4, BLACK.stroke_width(1)));
+    let font: TextStyle = ("sans-serif", 12).into_font().into();
+    let anchors: Vec<(i32, i32)> = shown.iter().map(|p| chart.backend_coord(p)).collect();
+    let labels: Vec<String> = timed.iter().map(|r| r.config.label()).collect();
+    let sizes: Vec<(u32, u32)> = labels
+        .iter()
+        .map(|l| root.estimate_text_size(l, &font).map_err(|e| err(Box::new(e))))
+        .collect::<BenchResult<_>>()?;
+    let placed = place_labels(&anchors, &sizes, root.dim_in_pixel());
+    for (i, r) in timed.iter().enumerate() {
         let c = colour(r.config.technique);
-        let label = r.config.label();
-        chart
-            .draw_series(std::iter::once(
-                EmptyElement::at(*p)
-                    + Circle::new((0, 0), 5, c.filled())
-                    + Text::new(label, (6, -12), ("sans-serif", 12).into_font().color(&c)),
-            ))
-            .map_err(|e| err(Box::new(e)))?;
+        let marker = if r.accuracy.wrong_fraction > 0.0 { c.filled() } else { c.stroke_width(2) };
+        chart.draw_series(std::iter::once(Circle::new(shown[i], 5, marker))).map_err(|e| err(Box::new(e)))?;
+        let (anchor, at, (w, h)) = (anchors[i], placed[i], sizes[i]);
+        // A label pushed away from its point gets a leader line to the label's nearest edge.
+        let nearest = (anchor.0.clamp(at.0, at.0 + w as i32), anchor.1.clamp(at.1, at.1 + h as i32));
+        if (nearest.0 - anchor.0).abs() + (nearest.1 - anchor.1).abs() > 16 {
+            root.draw(&PathElement::new(vec![anchor, nearest], c.mix(0.5))).map_err(|e| err(Box::new(e)))?;
+        }
+        root.draw(&Text::new(labels[i].clone(), at, font.color(&c))).map_err(|e| err(Box::new(e)))?;
     }
+    // The legend goes to the plot corner that covers the fewest labels and points.
+    let (xs, ys) = chart.plotting_area().get_pixel_range();
+    let obstacles: Vec<(i32, i32, i32, i32)> = placed
+        .iter()
+        .zip(&sizes)
+        .map(|(&(x, y), &(w, h))| (x, y, x + w as i32, y + h as i32))
+        .chain(anchors.iter().map(|&(x, y)| (x - 6, y - 6, x + 6, y + 6)))
+        .collect();
+    let corner = legend_corner((xs.start, ys.start, xs.end, ys.end), LEGEND_SIZE, &obstacles);
     chart
         .configure_series_labels()
+        .position(SeriesLabelPosition::Coordinate(corner.0 - xs.start, corner.1 - ys.start))
         .background_style(WHITE.mix(0.8))
         .border_style(BLACK)
         .draw()
         .map_err(|e| err(Box::new(e)))?;
     root.present().map_err(|e| err(Box::new(e)))?;
     Ok(())
+}
+
+/// The accuracy chart's legend box, in pixels (two entries).
+const LEGEND_SIZE: (i32, i32) = (200, 56);
+
+/// The top-left corner, among the four corners of `area` (x0, y0, x1, y1), where a box of
+/// `size` overlaps `obstacles` least (upper right on a tie).
+pub fn legend_corner(area: (i32, i32, i32, i32), size: (i32, i32), obstacles: &[(i32, i32, i32, i32)]) -> (i32, i32) {
+    let pad = 10;
+    let corners = [
+        (area.2 - size.0 - pad, area.1 + pad),
+        (area.0 + pad, area.1 + pad),
+        (area.0 + pad, area.3 - size.1 - pad),
+        (area.2 - size.0 - pad, area.3 - size.1 - pad),
+    ];
+    let cost = |&(x, y): &(i32, i32)| -> i64 {
+        obstacles
+            .iter()
+            .map(|o| {
+                let w = ((x + size.0).min(o.2) - x.max(o.0)).max(0);
+                let h = ((y + size.1).min(o.3) - y.max(o.1)).max(0);
+                i64::from(w) * i64::from(h)
+            })
+            .sum()
+    };
+    corners.iter().copied().min_by_key(cost).unwrap_or(corners[0])
+}
+
+/// Top-left corners for labels of `sizes` beside the points at `anchors` (pixels), none
+/// overlapping another label or a point, inside `bounds`: candidates on rings of growing radius
+/// around each point, greedily, left to right; a label with no free spot takes the spot that
+/// overlaps least.
+pub fn place_labels(anchors: &[(i32, i32)], sizes: &[(u32, u32)], bounds: (u32, u32)) -> Vec<(i32, i32)> {
+    type Rect = (i32, i32, i32, i32);
+    let overlap = |a: Rect, b: Rect| {
+        let w = (a.2.min(b.2) - a.0.max(b.0)).max(0);
+        let h = (a.3.min(b.3) - a.1.max(b.1)).max(0);
+        i64::from(w) * i64::from(h)
+    };
+    let points: Vec<Rect> = anchors.iter().map(|&(x, y)| (x - 6, y - 6, x + 6, y + 6)).collect();
+    let mut order: Vec<usize> = (0..anchors.len()).collect();
+    order.sort_by_key(|&i| (anchors[i].0, anchors[i].1));
+    let mut taken: Vec<Rect> = Vec::new();
+    let mut out = vec![(0, 0); anchors.len()];
+    for i in order {
+        let (w, h) = (sizes[i].0 as i32, sizes[i].1 as i32);
+        let (ax, ay) = anchors[i];
+        let mut best: Option<(i64, (i32, i32))> = None;
+        'rings: for ring in 0..8 {
+            let r = 8 + 14 * ring;
+            let candidates = [
+                (r, -h / 2),
+                (r, -h - r / 2),
+                (r, r / 2),
+                (-w - r, -h / 2),
+                (-w / 2, -h - r),
+                (-w / 2, r),
+                (-w - r, -h - r / 2),
+                (-w - r, r / 2),
+            ];
+            for (dx, dy) in candidates {
+                let (x, y) = (ax + dx, ay + dy);
+                let rect = (x, y, x + w, y + h);
+                if x < 0 || y < 0 || rect.2 > bounds.0 as i32 || rect.3 > bounds.1 as i32 {
+                    continue;
+                }
+                let cost: i64 = taken.iter().chain(&points).map(|&t| overlap(rect, t)).sum();
+                if best.is_none_or(|(c, _)| cost < c) {
+                    best = Some((cost, (x, y)));
+                }
+                if cost == 0 {
+                    break 'rings;
+                }
+            }
+        }
+        let at = best.map_or((ax + 8, ay - h / 2), |(_, at)| at);
+        taken.push((at.0, at.1, at.0 + w, at.1 + h));
+        out[i] = at;
+    }
+    out
 }
 
 /// The group a pass belongs to in the breakdown.
@@ -298,6 +417,38 @@ mod tests {
     fn pareto_front_keeps_the_undominated() {
         let points = [(1.0, 5.0), (2.0, 1.0), (1.5, 6.0), (3.0, 0.0), (2.5, 1.0)];
         assert_eq!(pareto_front(&points), vec![0, 1, 3]);
+    }
+
+    #[test]
+    fn labels_never_overlap_when_there_is_room() {
+        // Four points on one spot (the hybrid's four masks on cubes) and two close by.
+        let anchors = [(300, 300), (300, 300), (301, 300), (300, 301), (320, 305), (340, 290)];
+        let sizes = [(90, 12); 6];
+        let placed = place_labels(&anchors, &sizes, (900, 600));
+        let rects: Vec<_> =
+            placed.iter().zip(&sizes).map(|(&(x, y), &(w, h))| (x, y, x + w as i32, y + h as i32)).collect();
+        for (i, a) in rects.iter().enumerate() {
+            for b in &rects[i + 1..] {
+                let apart = a.2 <= b.0 || b.2 <= a.0 || a.3 <= b.1 || b.3 <= a.1;
+                assert!(apart, "{a:?} overlaps {b:?}");
+            }
+            assert!(a.0 >= 0 && a.1 >= 0 && a.2 <= 900 && a.3 <= 600);
+        }
+    }
+
+    #[test]
+    fn the_legend_avoids_the_labels() {
+        let area = (0, 0, 800, 500);
+        // Labels in the upper right: the legend goes to the upper left.
+        assert_eq!(legend_corner(area, (200, 56), &[(600, 10, 780, 60)]), (10, 10));
+        assert_eq!(legend_corner(area, (200, 56), &[]), (590, 10));
+    }
+
+    #[test]
+    fn zero_scores_sit_below_the_smallest_non_zero_one() {
+        assert_eq!(zero_floor(&[0.0, 0.025, 0.076, 1.6]), 0.025 / 4.0);
+        assert_eq!(zero_floor(&[0.0, 0.0]), 1e-3);
+        assert_eq!(zero_floor(&[1e-9, 0.5]), 1e-5);
     }
 
     #[test]

@@ -5,7 +5,7 @@ use crate::record::{Accuracy, Config, Fill, NoCull, PassTime, Record, Skipped, S
 use crate::{BenchError, BenchResult};
 use std::collections::BTreeMap;
 use std::path::Path;
-use umbra_reference::{save_error_png, Comparison, SceneBvh, ShadowMask, SurfaceImage, WrongPixels};
+use umbra_reference::{error_image, Comparison, SceneBvh, ShadowMask, SurfaceImage, WrongPixels};
 use umbra_scene::{Scene, Technique};
 use umbra_shadows::{Frame, HybridSettings, MaskKind, RenderError, Renderer, RendererDesc, ShadowFilter};
 use umbra_vk::{Context, VkError};
@@ -100,8 +100,21 @@ pub fn renderer_desc(config: &Config, width: u32, height: u32) -> BenchResult<Re
     Ok(desc)
 }
 
-/// Measures one configuration of `scene` (whose lights all get the configuration's technique);
-/// `Ok(Err(reason))` when the device turns it down with a typed "unsupported".
+/// One configuration measured: its record, plus the last frame's image and first light's error
+/// image (both RGBA8, row 0 at the top) for pictures.
+#[derive(Clone, Debug)]
+pub struct Measured {
+    /// What was measured.
+    pub record: Record,
+    /// The last timed frame.
+    pub image: Vec<u8>,
+    /// The first light's error image against the reference ([`umbra_reference::error_image`]).
+    pub error_image: Vec<u8>,
+}
+
+/// Measures one configuration of `scene` (whose lights all get the configuration's technique)
+/// and writes its error image to `<out>/images/<id>-error.png`; `Ok(Err(reason))` when the
+/// device turns it down with a typed "unsupported".
 #[allow(clippy::too_many_arguments)]
 pub fn measure(
     ctx: &Context,
@@ -113,7 +126,7 @@ pub fn measure(
     frames: usize,
     no_cull: bool,
     out: &Path,
-) -> BenchResult<Result<Record, String>> {
+) -> BenchResult<Result<Measured, String>> {
     let Some(technique) = technique(config.technique) else {
         return Err(BenchError::Usage(format!("unknown technique {:?}", config.technique)));
     };
@@ -141,9 +154,9 @@ pub fn measure(
     } else {
         None
     };
-    let accuracy = score(&scene, bvh, last, &out.join("images"), &config.id())?;
+    let (accuracy, error_image) = score(&scene, bvh, last, &out.join("images"), &config.id())?;
     let r = &last.report;
-    Ok(Ok(Record {
+    let record = Record {
         config: config.clone(),
         device: r.device.clone(),
         driver: r.driver.clone(),
@@ -159,7 +172,8 @@ pub fn measure(
         error_image: format!("images/{}-error.png", config.id()),
         recorded_passes: r.passes.len(),
         no_cull,
-    }))
+    };
+    Ok(Ok(Measured { record, image: last.rgba.clone(), error_image }))
 }
 
 /// Renders `warmup` discarded frames, then `frames` kept ones (at least one).
@@ -270,14 +284,15 @@ fn fill(frame: &Frame) -> Fill {
 }
 
 /// Every light's mask against the reference from the frame's own G-buffer; writes the first
-/// light's error image as `<dir>/<id>-error.png`.
-fn score(scene: &Scene, bvh: &SceneBvh, frame: &Frame, dir: &Path, id: &str) -> BenchResult<Accuracy> {
+/// light's error image as `<dir>/<id>-error.png` and returns it (empty without a light).
+fn score(scene: &Scene, bvh: &SceneBvh, frame: &Frame, dir: &Path, id: &str) -> BenchResult<(Accuracy, Vec<u8>)> {
     let gbuffer =
         frame.gbuffer.as_ref().ok_or_else(|| BenchError::Usage("the renderer returned no G-buffer".into()))?;
     let surfaces = SurfaceImage::from_gbuffer(frame.width, frame.height, &gbuffer.position, &gbuffer.normal)?;
     std::fs::create_dir_all(dir).map_err(|e| BenchError::output(dir, e))?;
     let (mut all, mut band) = (WrongPixels::default(), WrongPixels::default());
     let (mut max_distance, mut undecided, mut band_px) = (None::<f32>, 0, umbra_reference::EDGE_BAND_PX);
+    let mut first_error = Vec::new();
     for (i, d) in frame.diagnostics.iter().enumerate() {
         let technique = ShadowMask::new(frame.width, frame.height, d.shadow_mask())?;
         let truth = ShadowMask::reference(scene, bvh, d.light, &surfaces)?;
@@ -290,10 +305,13 @@ fn score(scene: &Scene, bvh: &SceneBvh, frame: &Frame, dir: &Path, id: &str) -> 
         undecided += c.undecided;
         band_px = c.edge_band_px;
         if i == 0 {
-            save_error_png(&technique, &truth, &dir.join(format!("{id}-error.png")))?;
+            first_error = error_image(&technique, &truth);
+            let path = dir.join(format!("{id}-error.png"));
+            image::save_buffer(&path, &first_error, frame.width, frame.height, image::ColorType::Rgba8)
+                .map_err(|e| BenchError::output(&path, e))?;
         }
     }
-    Ok(Accuracy {
+    let accuracy = Accuracy {
         all,
         edge_band: band,
         edge_band_px: band_px,
@@ -303,7 +321,8 @@ fn score(scene: &Scene, bvh: &SceneBvh, frame: &Frame, dir: &Path, id: &str) -> 
         edge_band_wrong_fraction: band.fraction(),
         max_wrong_distance_px: max_distance,
         undecided,
-    })
+    };
+    Ok((accuracy, first_error))
 }
 
 /// A skipped configuration, logged.

@@ -1,0 +1,211 @@
+//! The `umbra-bench` command line: `sweep`, `poster` and `hard-cases`.
+
+use crate::record::{Record, Results, CSV_HEADER};
+use crate::sweep::{self, Plan};
+use crate::{hard_cases, plots, poster, scenes, summary, BenchError, BenchResult};
+use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::{Path, PathBuf};
+use umbra_reference::SceneBvh;
+use umbra_shadows::{MaskKind, ShadowFilter};
+
+#[derive(Parser, Debug)]
+#[command(name = "umbra-bench", about = "Accuracy-versus-time sweeps of umbra's shadow techniques")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Render, time and score every configuration; write results, plots and a summary.
+    Sweep(SweepArgs),
+    /// Render one scene with every technique, score each, and write one poster PNG.
+    Poster(poster::PosterArgs),
+    /// Run the hard-case conformance suite on several devices; write its table and pictures.
+    HardCases(hard_cases::HardCasesArgs),
+}
+
+#[derive(clap::Args, Debug)]
+struct SweepArgs {
+    /// Scenes: procedural names (cylinder, ball, cubes, cage, tree, pins), .toml scene files or
+    /// .glb/.gltf paths (a bare file name is also looked up in the repository's `assets/`, or in
+    /// $UMBRA_ASSETS when set).
+    #[arg(long, value_delimiter = ',', default_value = "cubes,cage,tree,cylinder")]
+    scenes: Vec<String>,
+    /// Techniques: sm (shadow map), silmap (silhouette map), sv (shadow volumes), hybrid.
+    #[arg(long, value_delimiter = ',', default_value = "sm,silmap,sv,hybrid")]
+    techniques: Vec<String>,
+    /// Shadow-map sizes (sm, silmap, hybrid).
+    #[arg(long, value_delimiter = ',', default_value = "256,512,1024,2048,4096")]
+    sm_sizes: Vec<u32>,
+    /// Shadow-map filters (sm): nearest, pcf2x2, pcf3x3, pcf5x5.
+    #[arg(long, value_delimiter = ',', default_value = "nearest,pcf2x2")]
+    filters: Vec<ShadowFilter>,
+    /// Hybrid computation masks: depth-bounds, stencil, none.
+    #[arg(long, value_delimiter = ',', default_value = "depth-bounds,stencil,none")]
+    masks: Vec<MaskKind>,
+    /// Image size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "1024x768", value_parser = crate::parse_size)]
+    size: (u32, u32),
+    /// Timed frames per configuration.
+    #[arg(long, default_value_t = 30)]
+    frames: usize,
+    /// Frames rendered and discarded first (shader compilation, caches).
+    #[arg(long, default_value_t = 3)]
+    warmup: usize,
+    /// Output folder (created if missing).
+    #[arg(long, default_value = "bench-out")]
+    out: PathBuf,
+    /// Turn every point light into a spot around the scene (cone at most 80°), for every
+    /// technique alike: silhouette maps need one 2D map per light and skip point lights.
+    #[arg(long)]
+    spot_lights: bool,
+    /// Bound every point and spot light to this range (world units): the light adds exactly
+    /// nothing beyond it, so planning can cull by it (scissor, depth bounds, casters).
+    #[arg(long)]
+    light_range: Option<f32>,
+    /// Also measure every configuration without frame planning (`RendererDesc::cull` off):
+    /// the summary's `--no-cull` column, and a check that the image is the same.
+    #[arg(long)]
+    no_cull: bool,
+    /// Hide the progress bar.
+    #[arg(long)]
+    quiet: bool,
+}
+
+/// Parses the command line and runs it; prints the error and exits 1 on failure.
+pub fn main() {
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("info")).init();
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Sweep(args) => run_sweep(&args),
+        Command::Poster(args) => poster::run_cli(&args),
+        Command::HardCases(args) => hard_cases::run(&args),
+    };
+    if let Err(e) = result {
+        eprintln!("umbra-bench: {e}");
+        std::process::exit(1);
+    }
+}
+
+fn run_sweep(args: &SweepArgs) -> BenchResult<()> {
+    let techniques = args
+        .techniques
+        .iter()
+        .map(|t| {
+            sweep::TECHNIQUES
+                .iter()
+                .find(|(s, _)| s == t)
+                .map(|(s, _)| *s)
+                .ok_or_else(|| BenchError::Usage(format!("--techniques: {t:?} is not sm, silmap, sv or hybrid")))
+        })
+        .collect::<BenchResult<Vec<_>>>()?;
+    if args.size.0 == 0 || args.size.1 == 0 {
+        return Err(BenchError::Usage("--size must be at least 1x1".into()));
+    }
+    plots::load_font()?;
+    let plan = Plan {
+        scenes: args.scenes.clone(),
+        techniques,
+        sm_sizes: args.sm_sizes.clone(),
+        filters: args.filters.clone(),
+        masks: args.masks.clone(),
+    };
+    std::fs::create_dir_all(&args.out).map_err(|e| BenchError::output(&args.out, e))?;
+    let ctx = umbra_vk::Context::new()?;
+    let caps = ctx.capabilities().clone();
+    log::info!("device: {} ({} {})", caps.device_name, caps.driver_name, caps.driver_info);
+
+    let total: usize = plan.scenes.iter().map(|s| plan.configs(s).len()).sum();
+    let bar = if args.quiet { ProgressBar::hidden() } else { ProgressBar::new(total as u64) };
+    bar.set_style(
+        ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} {msg}")
+            .map_err(|e| BenchError::Usage(e.to_string()))?
+            .progress_chars("=> "),
+    );
+    let mut records: Vec<Record> = Vec::new();
+    let mut skipped = Vec::new();
+    for name in &plan.scenes {
+        let scene = scenes::load(name, args.spot_lights, args.light_range)?;
+        let bvh = SceneBvh::build(&scene);
+        log::info!("{name}: {} triangles, reference BVH built in {:.1} ms", scene.triangle_count(), bvh.build_ms());
+        for config in plan.configs(name) {
+            bar.set_message(format!("{name}: {}", config.label()));
+            if let Some(reason) = sweep::unsupported(&ctx, &config) {
+                skipped.push(sweep::skip(&config, reason));
+            } else {
+                match sweep::measure(
+                    &ctx,
+                    &scene,
+                    &bvh,
+                    &config,
+                    args.size,
+                    args.warmup,
+                    args.frames,
+                    args.no_cull,
+                    &args.out,
+                )? {
+                    Ok(m) => records.push(m.record),
+                    Err(reason) => skipped.push(sweep::skip(&config, reason)),
+                }
+            }
+            bar.inc(1);
+        }
+    }
+    bar.finish_with_message("done");
+
+    let results = Results {
+        device: caps.device_name.clone(),
+        driver: format!("{} {}", caps.driver_name, caps.driver_info).trim().to_owned(),
+        depth_bounds: caps.depth_bounds,
+        timestamps: caps.timestamps,
+        warmup: args.warmup,
+        records,
+        skipped,
+    };
+    write_outputs(&results, &plan.scenes, &args.out)
+}
+
+fn write_outputs(results: &Results, scenes: &[String], out: &Path) -> BenchResult<()> {
+    let json = out.join("results.json");
+    let text = serde_json::to_string_pretty(results).map_err(|e| BenchError::output(&json, e))?;
+    std::fs::write(&json, text).map_err(|e| BenchError::output(&json, e))?;
+    let csv_path = out.join("results.csv");
+    let mut csv = csv::Writer::from_path(&csv_path).map_err(|e| BenchError::output(&csv_path, e))?;
+    csv.write_record(CSV_HEADER).map_err(|e| BenchError::output(&csv_path, e))?;
+    for r in &results.records {
+        csv.write_record(r.csv_row()).map_err(|e| BenchError::output(&csv_path, e))?;
+    }
+    csv.flush().map_err(|e| BenchError::output(&csv_path, e))?;
+
+    let mut plotted = Vec::new();
+    for scene in scenes {
+        let records: Vec<&Record> = results.records.iter().filter(|r| &r.config.scene == scene).collect();
+        if records.is_empty() {
+            continue;
+        }
+        let stem: String =
+            scene.rsplit('/').next().unwrap_or(scene).chars().filter(|c| c.is_ascii_alphanumeric()).collect();
+        let mut files = vec![format!("{stem}-accuracy-vs-time.png"), format!("{stem}-passes.png")];
+        plots::accuracy_vs_time(&records, scene, &out.join(&files[0]))?;
+        plots::pass_breakdown(&records, scene, &out.join(&files[1]))?;
+        let fill = format!("{stem}-fill.png");
+        if plots::fill_chart(&records, scene, &out.join(&fill))? {
+            files.push(fill);
+        }
+        plotted.push((scene.clone(), files));
+    }
+    let md = out.join("summary.md");
+    std::fs::write(&md, summary::markdown(results, scenes, &plotted)).map_err(|e| BenchError::output(&md, e))?;
+    println!(
+        "{} runs, {} skipped: wrote {}, {}, {} and {} plots",
+        results.records.len(),
+        results.skipped.len(),
+        json.display(),
+        csv_path.display(),
+        md.display(),
+        plotted.iter().map(|(_, f)| f.len()).sum::<usize>()
+    );
+    Ok(())
+}

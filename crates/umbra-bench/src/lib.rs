@@ -1,0 +1,52 @@
+//! # umbra-bench — what accuracy costs in time
+//!
+//! `umbra-bench sweep` renders every configuration of every scene (technique × shadow-map size
+//! × filter × computation mask), times each pass on the GPU over N frames after a warm-up,
+//! scores the last frame of each against the exact reference (`umbra-reference`: obvhs shadow
+//! rays from the frame's own G-buffer), and writes to `--out`:
+//! `results.json` (one record per run), `results.csv`, `summary.md`, per scene
+//! `<scene>-accuracy-vs-time.png` (with the Pareto front), `<scene>-passes.png` (Chan–Durand
+//! Fig. 12) and `<scene>-fill.png` (Fig. 11), and `images/<run>-error.png` (false shadow red,
+//! false light cyan).
+//!
+//! ```text
+//! cargo run --release -p umbra-bench -- sweep --scenes cubes,cage --techniques sm,sv,hybrid \
+//!     --sm-sizes 256,512,1024 --size 1024x768 --frames 30 --out bench-out
+//! ```
+//!
+//! `umbra-bench poster` renders one scene with every technique on the same frame, scores each
+//! against the exact reference, and writes `poster.png` (per technique its image, its error
+//! image and a caption with GPU ms and wrong pixels), `poster.json` with the same numbers and a
+//! table on stdout; the numbers come from the same measurement as the sweep's
+//! ([`sweep::measure`]), so the poster's wrong-pixel counts equal the sweep's for the same
+//! configuration. `cargo run --release --example demo` is this poster.
+//!
+//! `umbra-bench hard-cases` runs the hard-case conformance suite (`tests/hard-cases/`,
+//! `umbra-conformance`) on each device named by `--devices` with the validation layer on, and
+//! writes `hard-cases.md` (cases × techniques × devices), a picture per case and
+//! `results/hard-cases.json` under `--out` (`bash ci/hard-cases.sh` writes `docs/`).
+//!
+//! Configurations the device cannot run (the depth-bounds mask without `depthBounds`, a
+//! silhouette map for a light that needs a cube map, …) are skipped with the reason logged and
+//! listed in `results.json` and `summary.md`.
+
+#![warn(missing_docs)]
+
+pub mod cli;
+mod error;
+pub mod hard_cases;
+pub mod plots;
+pub mod poster;
+pub mod record;
+pub mod scenes;
+pub mod summary;
+pub mod sweep;
+
+pub use error::{BenchError, BenchResult};
+
+/// Parses `WIDTHxHEIGHT`.
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("{s:?} is not WIDTHxHEIGHT"))?;
+    let parse = |v: &str| v.trim().parse::<u32>().map_err(|e| format!("{v:?}: {e}"));
+    Ok((parse(w)?, parse(h)?))
+}
