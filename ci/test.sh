@@ -19,6 +19,14 @@ cargo clippy --workspace --all-targets --locked -- -D warnings
 echo "== rustdoc (warnings are errors)"
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --locked
 
+echo "== cargo package (every crate packages on its own: its files, licences and GLSL inside it)"
+cargo package --workspace --no-verify --locked --allow-dirty --quiet
+ls "${CARGO_TARGET_DIR}"/package/*.crate | sed 's|.*/|  packaged |'
+# umbra-shaders' build.rs compiles the GLSL inside its own package: every file must be there.
+shipped=$(tar -tzf "${CARGO_TARGET_DIR}"/package/umbra-shaders-*.crate | sed -n 's|^umbra-shaders-[^/]*/shaders-glsl/||p' | sort)
+missing=$(cd shaders-glsl && find . -type f | sed 's|^\./||' | sort | comm -23 - <(echo "$shipped"))
+[ -z "$missing" ] || { echo "umbra-shaders' package lacks: $missing" >&2; exit 1; }
+
 echo "== build"
 cargo build --workspace --all-targets --locked
 

@@ -9,8 +9,10 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-/// The GLSL folder, relative to this package.
-const SHADER_DIR: &str = "../../shaders-glsl";
+/// The GLSL folder, relative to this package: in the repository a symbolic link to the
+/// workspace's top-level `shaders-glsl/` (so `cargo package` ships the sources inside the
+/// crate), in a packaged crate the copied folder itself.
+const SHADER_DIR: &str = "shaders-glsl";
 
 fn main() {
     let manifest = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
