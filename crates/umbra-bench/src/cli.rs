@@ -101,9 +101,6 @@ fn run_sweep(args: &SweepArgs) -> BenchResult<()> {
                 .ok_or_else(|| BenchError::Usage(format!("--techniques: {t:?} is not sm, silmap, sv or hybrid")))
         })
         .collect::<BenchResult<Vec<_>>>()?;
-    if args.size.0 == 0 || args.size.1 == 0 {
-        return Err(BenchError::Usage("--size must be at least 1x1".into()));
-    }
     plots::load_font()?;
     let plan = Plan {
         scenes: args.scenes.clone(),
@@ -157,7 +154,7 @@ fn run_sweep(args: &SweepArgs) -> BenchResult<()> {
 
     let results = Results {
         device: caps.device_name.clone(),
-        driver: format!("{} {}", caps.driver_name, caps.driver_info).trim().to_owned(),
+        driver: caps.driver(),
         depth_bounds: caps.depth_bounds,
         timestamps: caps.timestamps,
         warmup: args.warmup,

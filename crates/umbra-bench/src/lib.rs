@@ -44,9 +44,24 @@ pub mod sweep;
 
 pub use error::{BenchError, BenchResult};
 
-/// Parses `WIDTHxHEIGHT`.
+/// Parses `WIDTHxHEIGHT`, each side at least 1.
 pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("{s:?} is not WIDTHxHEIGHT"))?;
     let parse = |v: &str| v.trim().parse::<u32>().map_err(|e| format!("{v:?}: {e}"));
-    Ok((parse(w)?, parse(h)?))
+    match (parse(w)?, parse(h)?) {
+        (0, _) | (_, 0) => Err(format!("{s:?}: the size must be at least 1x1")),
+        size => Ok(size),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn sizes_parse_and_zero_sides_are_refused() {
+        assert_eq!(super::parse_size("512x384"), Ok((512, 384)));
+        assert_eq!(super::parse_size("64X48"), Ok((64, 48)));
+        assert!(super::parse_size("0x384").is_err());
+        assert!(super::parse_size("512x0").is_err());
+        assert!(super::parse_size("512").is_err());
+    }
 }

@@ -950,7 +950,7 @@ impl Renderer {
         }
         let report = FrameReport {
             device: caps.device_name.clone(),
-            driver: format!("{} {}", caps.driver_name, caps.driver_info).trim().to_owned(),
+            driver: caps.driver(),
             capabilities: caps.clone(),
             scene: SceneSummary::of(scene, &adjacency),
             width: self.desc.width,

@@ -81,6 +81,12 @@ pub(crate) struct Probe<'a> {
 }
 
 impl Capabilities {
+    /// Driver name and version in one string (`llvmpipe Mesa 22.3.6 (LLVM 15.0.6)`), as frame
+    /// reports and bench results name it.
+    pub fn driver(&self) -> String {
+        format!("{} {}", self.driver_name, self.driver_info).trim().to_owned()
+    }
+
     pub(crate) fn from_parts(p: Probe<'_>) -> Self {
         let limits = &p.properties.limits;
         let c_str = |s: Result<&std::ffi::CStr, _>| {

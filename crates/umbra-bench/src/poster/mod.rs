@@ -69,15 +69,12 @@ pub struct Poster {
     pub skipped: Vec<Skipped>,
 }
 
-/// The short technique names, in the poster's column order.
-pub const TECHNIQUES: [&str; 4] = ["sm", "silmap", "sv", "hybrid"];
-
-/// The four configurations of the poster for a device with (or without) `depthBounds`.
+/// The poster's configurations, one per technique in the sweep's order, for a device with (or without) `depthBounds`.
 pub fn configs(args: &PosterArgs, depth_bounds: bool) -> Vec<Config> {
     let mask = args.mask.unwrap_or(MaskKind::best_for(depth_bounds));
-    TECHNIQUES
+    sweep::TECHNIQUES
         .iter()
-        .map(|&technique| Config {
+        .map(|&(technique, _)| Config {
             scene: args.scene.clone(),
             technique,
             sm_size: (technique != "sv").then_some(args.sm_size),
@@ -94,7 +91,7 @@ pub fn bench_command(args: &PosterArgs, depth_bounds: bool) -> String {
         "umbra-bench sweep --scenes {} --techniques {} --sm-sizes {} --filters {} --masks {} --size {}x{} \
          --frames {} --warmup {} --spot-lights",
         args.scene,
-        TECHNIQUES.join(","),
+        sweep::TECHNIQUES.map(|(short, _)| short).join(","),
         args.sm_size,
         args.filter.name(),
         mask.name(),
@@ -117,9 +114,6 @@ pub fn run_cli(args: &PosterArgs) -> BenchResult<()> {
 
 /// Measures every technique on `ctx`'s device and writes `poster.png` and `poster.json`.
 pub fn run(ctx: &Context, args: &PosterArgs) -> BenchResult<Poster> {
-    if args.size.0 == 0 || args.size.1 == 0 {
-        return Err(BenchError::Usage("--size must be at least 1x1".into()));
-    }
     plots::load_font()?;
     std::fs::create_dir_all(&args.out).map_err(|e| BenchError::output(&args.out, e))?;
     let caps = ctx.capabilities().clone();
@@ -140,7 +134,7 @@ pub fn run(ctx: &Context, args: &PosterArgs) -> BenchResult<Poster> {
     }
     let poster = Poster {
         device: caps.device_name.clone(),
-        driver: format!("{} {}", caps.driver_name, caps.driver_info).trim().to_owned(),
+        driver: caps.driver(),
         scene: args.scene.clone(),
         width: args.size.0,
         height: args.size.1,
