@@ -421,6 +421,7 @@ impl Viewer {
             }
         }
         self.scene.camera = self.rig.camera();
+        self.scene.fit_near_plane();
     }
 
     /// A renderer for the window's size and the keys' settings.

@@ -5,6 +5,7 @@ use serde::{Deserialize, Serialize};
 
 /// A perspective camera looking from `position` at `target`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Camera {
     /// Eye position.
     pub position: Vec3,
@@ -39,6 +40,45 @@ impl Camera {
     /// far 200).
     pub fn look_at(position: Vec3, target: Vec3) -> Self {
         Self { position, target, up: Vec3::Y, fov_y_deg: fov(), near: near(), far: Some(200.0) }
+    }
+
+    /// The smallest `near`, as a fraction of the distance from the eye to the farthest point
+    /// of the scene, that [`Camera::validate`] accepts. Hard case 07 (geometry at 1e5–1e6
+    /// units, near = 100 at distances up to ~8e5: a ratio of ~1.2e-4) is exact with shadow
+    /// volumes and the hybrid on both CPU drivers; `tests/hostile_camera.rs` renders a camera at
+    /// exactly this ratio and checks shadow volumes against the reference.
+    pub const MIN_NEAR_RATIO: f32 = 1e-4;
+
+    /// Checks the camera for a scene whose farthest point is `reach` from the eye: finite
+    /// vectors, `position ≠ target`, an `up` that is not zero or along the view direction,
+    /// `0 < fov_y_deg < 180`, `near ≥ MIN_NEAR_RATIO × reach` (depth precision: below it
+    /// z-fail shadow volumes are no longer exact) and `far > near`. The `Err` names the field.
+    pub fn validate(&self, reach: f32) -> Result<(), String> {
+        if !(self.position.is_finite() && self.target.is_finite() && self.up.is_finite()) {
+            return Err("position, target and up must be finite".into());
+        }
+        let forward = self.target - self.position;
+        if forward.length_squared() == 0.0 {
+            return Err(format!("position and target are the same point {}", self.position));
+        }
+        if self.up.length_squared() == 0.0 || forward.normalize().cross(self.up.normalize()).length_squared() < 1e-8 {
+            return Err(format!("up {} is zero or along the view direction", self.up));
+        }
+        if !(self.fov_y_deg > 0.0 && self.fov_y_deg < 180.0) {
+            return Err(format!("fov_y_deg {} must be in (0, 180)", self.fov_y_deg));
+        }
+        let min_near = Self::MIN_NEAR_RATIO * reach;
+        if !(self.near.is_finite() && self.near > 0.0 && self.near >= min_near) {
+            return Err(format!(
+                "near {:e} must be finite and ≥ {min_near:e} ({:e} of the distance {reach:e} to the scene's farthest point: depth precision)",
+                self.near,
+                Self::MIN_NEAR_RATIO
+            ));
+        }
+        if let Some(far) = self.far.filter(|f| !(f.is_finite() && *f > self.near)) {
+            return Err(format!("far {far} must be finite and > near {}", self.near));
+        }
+        Ok(())
     }
 
     /// World-to-view matrix (right-handed, looking down -Z).

@@ -146,6 +146,47 @@ impl Light {
         self.color * self.intensity
     }
 
+    /// Checks the light on its own: a finite homogeneous position with w = 0 (a non-zero
+    /// direction) or w = 1 within ±[`crate::MAX_COORDINATE`], colour components and intensity
+    /// finite and ≥ 0, a range finite and > 0, and a spot cone with a finite non-zero axis and
+    /// `0 ≤ inner_deg ≤ outer_deg ≤ 90`. The `Err` says which field is wrong and why.
+    pub fn validate(&self) -> Result<(), String> {
+        let p = self.position;
+        if !p.is_finite() {
+            return Err(format!("position {p} is not finite"));
+        }
+        if p.w != 0.0 && p.w != 1.0 {
+            return Err(format!("position w = {} (0: directional, 1: point or spot)", p.w));
+        }
+        if p.w == 0.0 && p.truncate() == Vec3::ZERO {
+            return Err("a directional light needs a non-zero direction".into());
+        }
+        if p.truncate().abs().max_element() > crate::MAX_COORDINATE {
+            return Err(format!("position beyond ±{:e}", crate::MAX_COORDINATE));
+        }
+        if !(self.color.is_finite() && self.color.min_element() >= 0.0) {
+            return Err(format!("color {} must be finite and ≥ 0", self.color));
+        }
+        if !(self.intensity.is_finite() && self.intensity >= 0.0) {
+            return Err(format!("intensity {} must be finite and ≥ 0", self.intensity));
+        }
+        if let Some(r) = self.range.filter(|r| !(r.is_finite() && *r > 0.0)) {
+            return Err(format!("range {r} must be finite and > 0"));
+        }
+        if let Some(s) = &self.spot {
+            if !s.direction.is_finite() || s.direction.length_squared() == 0.0 {
+                return Err(format!("spot direction {} must be finite and non-zero", s.direction));
+            }
+            if !(s.outer_deg > 0.0 && s.outer_deg <= 90.0) {
+                return Err(format!("spot outer_deg {} must be in (0, 90]", s.outer_deg));
+            }
+            if !(s.inner_deg >= 0.0 && s.inner_deg <= s.outer_deg) {
+                return Err(format!("spot inner_deg {} must be in [0, outer_deg = {}]", s.inner_deg, s.outer_deg));
+            }
+        }
+        Ok(())
+    }
+
     /// Whether this light can change the image at all (non-zero radiance).
     pub fn contributes(&self) -> bool {
         self.radiance().max_element() > 0.0

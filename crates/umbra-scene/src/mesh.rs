@@ -3,14 +3,16 @@
 use crate::error::{SceneError, SceneResult};
 use glam::{Mat3, Mat4, Vec3};
 
-/// The largest coordinate magnitude a scene may hold, in world and object space.
+/// The largest coordinate magnitude a scene may hold, in world and object space: ±1e6.
 ///
-/// Shadow techniques evaluate triangle planes at the light (Everitt–Kilgard's facing test):
-/// products of three coordinates. With every coordinate within ±1e12 those stay below
-/// 1.2e37, inside f32's range (3.4e38), so no intermediate overflows to infinity; beyond it a
-/// scene is rejected with a typed error before any GPU work. (Depth precision runs out long
-/// before: the conformance suite's large-coordinate case works at 1e5–1e6.)
-pub const MAX_COORDINATE: f32 = 1e12;
+/// This is the bound where the techniques are measured exact: hard case 07 (geometry at
+/// 1e5–1e6 units, 5e5 from the origin) passes shadow volumes and the hybrid against the
+/// reference on both CPU drivers. Past it f32 keeps less than 0.06 units of a coordinate and
+/// the drivers' rounding of the same vertex diverges (geometry at 1e11 rendered differently on
+/// lavapipe and SwiftShader), so a scene beyond it is rejected with a typed error before any
+/// GPU work. (It also keeps Everitt–Kilgard's facing test — products of three coordinates —
+/// far inside f32's range.)
+pub const MAX_COORDINATE: f32 = 1e6;
 
 /// An axis-aligned bounding box.
 #[derive(Clone, Copy, Debug, PartialEq)]

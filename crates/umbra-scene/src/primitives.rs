@@ -1,6 +1,9 @@
 //! Procedural meshes: planes, boxes, spheres, cylinders and lathes (surfaces of revolution).
 //! Every mesh is closed unless its name says otherwise, and winds counter-clockwise outward.
+//! Segment and ring counts are clamped to `3..=`[`MAX_SEGMENTS`] (rings `2..=`); scene files
+//! refuse values outside those ranges instead.
 
+pub use crate::limits::MAX_SEGMENTS;
 use crate::mesh::Mesh;
 use glam::{Mat4, Quat, Vec2, Vec3};
 use std::f32::consts::{PI, TAU};
@@ -47,7 +50,7 @@ pub fn sphere(radius: f32, segments: u32, rings: u32) -> Mesh {
 /// A UV sphere whose radius is scaled by `scale(theta, phi)`; smooth normals. Closed: one
 /// vertex per pole and the seam column shared, so welding by position finds no boundary.
 pub fn displaced_sphere(radius: f32, segments: u32, rings: u32, scale: impl Fn(f32, f32) -> f32) -> Mesh {
-    let (segments, rings) = (segments.max(3), rings.max(2));
+    let (segments, rings) = (segments.clamp(3, MAX_SEGMENTS), rings.clamp(2, MAX_SEGMENTS));
     let mut positions = vec![Vec3::Y * radius * scale(0.0, 0.0)];
     for i in 1..rings {
         let phi = PI * i as f32 / rings as f32;
@@ -103,7 +106,7 @@ pub fn cylinder_between(a: Vec3, b: Vec3, radius: f32, segments: u32) -> Mesh {
 /// every profile segment gets its own vertices (flat-shaded bands, for caps and cylinders);
 /// otherwise normals are smooth.
 pub fn lathe(profile: &[Vec2], segments: u32, creased: bool) -> Mesh {
-    let segments = segments.max(3);
+    let segments = segments.clamp(3, MAX_SEGMENTS);
     let bands: Vec<[Vec2; 2]> = profile.windows(2).map(|w| [w[0], w[1]]).collect();
     let mut m = Mesh { name: "lathe".into(), ..Default::default() };
     let ring = |p: Vec2, j: u32| {

@@ -89,6 +89,31 @@ impl Scene {
         self.object_bounds().into_iter().flatten().fold(Aabb::EMPTY, Aabb::union)
     }
 
+    /// An upper bound on the distance from the camera to the farthest point of the scene (its
+    /// bounding sphere's far side); 0 for an empty scene. [`Camera::validate`] bounds `near`
+    /// by it.
+    pub fn camera_reach(&self) -> f32 {
+        let b = self.bounds();
+        if b.is_empty() {
+            0.0
+        } else {
+            (b.center() - self.camera.position).length() + b.radius()
+        }
+    }
+
+    /// Raises the camera's `near` to the smallest [`Camera::validate`] accepts for this scene
+    /// (never lowers it): for interactive cameras that zoom out past their near plane's
+    /// precision.
+    pub fn fit_near_plane(&mut self) {
+        let least = Camera::MIN_NEAR_RATIO * self.camera_reach();
+        if self.camera.near < least {
+            self.camera.near = least * 1.001;
+            if let Some(far) = self.camera.far.as_mut() {
+                *far = far.max(self.camera.near * 2.0);
+            }
+        }
+    }
+
     /// Points the camera at the scene from the front-right-above, far enough to see it all.
     pub fn frame_camera(&mut self) {
         let b = self.bounds();
@@ -137,14 +162,19 @@ impl Scene {
 
     /// Checks everything a frame relies on, before any GPU work: every mesh is valid (finite,
     /// within [`crate::MAX_COORDINATE`], indices in range), every object refers to a mesh and
-    /// has a finite transform that keeps it within `MAX_COORDINATE`, every light has a finite
-    /// position (a direction that is not zero for w = 0), colour and intensity, and the camera
-    /// is finite with `0 < near < far`.
+    /// has a finite transform that keeps it within `MAX_COORDINATE`, at most
+    /// [`crate::limits::MAX_OBJECTS`] objects and [`crate::limits::MAX_LIGHTS`] lights, every
+    /// light passes [`Light::validate`], ambient and background are finite and ≥ 0, and the
+    /// camera passes [`Camera::validate`] for this scene's bounds.
     pub fn validate(&self) -> crate::SceneResult<()> {
         for m in &self.meshes {
             m.validate()?;
         }
         let invalid = |what: String, why: String| Err(crate::SceneError::InvalidScene { what, why });
+        if self.objects.len() > crate::limits::MAX_OBJECTS {
+            let (value, limit) = (self.objects.len() as u64, crate::limits::MAX_OBJECTS as u64);
+            return Err(crate::SceneError::Limit { what: "objects".into(), value, limit });
+        }
         for (i, o) in self.objects.iter().enumerate() {
             let what = || format!("object {i} ({:?})", o.name);
             let Some(mesh) = self.meshes.get(o.mesh) else {
@@ -163,32 +193,19 @@ impl Scene {
                 );
             }
         }
+        if self.lights.len() > crate::limits::MAX_LIGHTS {
+            let (value, limit) = (self.lights.len() as u64, crate::limits::MAX_LIGHTS as u64);
+            return Err(crate::SceneError::Limit { what: "lights".into(), value, limit });
+        }
         for (i, l) in self.lights.iter().enumerate() {
-            let what = || format!("light {i} ({:?})", l.name);
-            let p = l.position;
-            if !p.is_finite() || !l.color.is_finite() || !l.intensity.is_finite() {
-                return invalid(what(), "position, colour or intensity is not finite".into());
-            }
-            if p.w != 0.0 && p.w != 1.0 {
-                return invalid(what(), format!("w = {} (0: directional, 1: point or spot)", p.w));
-            }
-            if p.w == 0.0 && p.truncate() == Vec3::ZERO {
-                return invalid(what(), "a directional light needs a non-zero direction".into());
-            }
-            if p.truncate().abs().max_element() > crate::MAX_COORDINATE {
-                return invalid(what(), format!("position beyond ±{:e}", crate::MAX_COORDINATE));
-            }
-            if let Some(r) = l.range.filter(|r| !(r.is_finite() && *r > 0.0)) {
-                return invalid(what(), format!("range {r} (must be finite and > 0)"));
+            l.validate().or_else(|why| invalid(format!("light {i} ({:?})", l.name), why))?;
+        }
+        for (what, c) in [("ambient", self.ambient), ("background", self.background)] {
+            if !(c.is_finite() && c.min_element() >= 0.0) {
+                return invalid(what.into(), format!("{c} must be finite and ≥ 0"));
             }
         }
-        let c = &self.camera;
-        let finite = c.position.is_finite() && c.target.is_finite() && c.up.is_finite() && c.fov_y_deg.is_finite();
-        let near_ok = c.near.is_finite() && c.near > 0.0;
-        let far_ok = c.far.is_none_or(|f| f.is_finite() && f > c.near);
-        if !finite || !near_ok || !far_ok {
-            return invalid("camera".into(), "needs finite vectors and 0 < near < far".into());
-        }
+        self.camera.validate(self.camera_reach()).or_else(|why| invalid("camera".into(), why))?;
         Ok(())
     }
 }

@@ -23,7 +23,7 @@
 //!
 //! [[mesh]]
 //! name = "tree"
-//! kind = "tree"          # the procedural branching tree: depth (default 7, at most 9), seed
+//! kind = "tree"          # the procedural branching tree: depth (default 7, 0..=9), seed
 //! depth = 6
 //!
 //! [[mesh]]
@@ -50,6 +50,7 @@
 //! ```
 
 use crate::error::{SceneError, SceneResult};
+use crate::limits::{MAX_INDICES, MAX_OBJECTS, MAX_SCENE_FILE_BYTES, MAX_SEGMENTS, MAX_TREE_DEPTH, MAX_VERTICES};
 use crate::primitives;
 use crate::{Camera, Light, Mesh, Scene, Spot, Technique};
 use glam::{EulerRot, Mat4, Quat, Vec3};
@@ -71,15 +72,31 @@ struct File {
     light: Vec<LightEntry>,
 }
 
-#[derive(Deserialize)]
+/// A `[[mesh]]` table: its `name`, then the fields of its `kind`, unknown keys refused.
 struct MeshEntry {
     name: String,
-    #[serde(flatten)]
     source: MeshSource,
 }
 
+impl<'de> Deserialize<'de> for MeshEntry {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        use serde::de::Error;
+        let mut table = toml::Table::deserialize(d)?;
+        let name = match table.remove("name") {
+            Some(toml::Value::String(name)) => name,
+            Some(other) => {
+                return Err(D::Error::custom(format!("mesh `name` must be a string, not {}", other.type_str())))
+            }
+            None => return Err(D::Error::missing_field("name")),
+        };
+        let source = MeshSource::deserialize(toml::Value::Table(table))
+            .map_err(|e| D::Error::custom(format!("mesh {name:?}: {}", e.message())))?;
+        Ok(Self { name, source })
+    }
+}
+
 #[derive(Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case")]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 enum MeshSource {
     Plane { size: f32 },
     Box { half: Vec3 },
@@ -138,7 +155,9 @@ struct LightEntry {
 
 /// Loads a TOML scene file; mesh `path`s are relative to the file's folder.
 pub fn load_scene_file(path: &Path) -> SceneResult<Scene> {
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io { path: path.to_owned(), source })?;
+    let bytes = crate::files::read_regular(path, MAX_SCENE_FILE_BYTES)?;
+    let text = String::from_utf8(bytes)
+        .map_err(|e| SceneError::SceneFile { path: path.to_owned(), message: format!("not UTF-8 text: {e}") })?;
     let dir = path.parent().unwrap_or(Path::new("."));
     let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     parse_scene(&text, dir, &stem).map_err(|message| SceneError::SceneFile { path: path.to_owned(), message })
@@ -152,6 +171,9 @@ pub fn parse_scene(text: &str, dir: &Path, default_name: &str) -> Result<Scene, 
     scene.background = file.background.unwrap_or(scene.background);
     let mut names = Vec::new();
     for entry in file.mesh {
+        if names.contains(&entry.name) {
+            return Err(format!("two meshes are named {:?}: an object's `mesh` would be ambiguous", entry.name));
+        }
         let mut mesh = build_mesh(&entry.source, dir).map_err(|e| format!("mesh {:?}: {e}", entry.name))?;
         mesh.name = entry.name.clone();
         names.push(entry.name);
@@ -170,7 +192,16 @@ pub fn parse_scene(text: &str, dir: &Path, default_name: &str) -> Result<Scene, 
             Some(Scale::Axes(v)) => v,
         };
         let name = o.name.unwrap_or(o.mesh);
-        let repeat = o.repeat.unwrap_or(1);
+        let repeat = o.repeat.unwrap_or(1) as usize;
+        if repeat == 0 {
+            return Err(format!("object {name:?}: repeat = 0 places nothing (omit the object, or repeat ≥ 1)"));
+        }
+        if scene.objects.len() + repeat > MAX_OBJECTS {
+            let total = scene.objects.len() + repeat;
+            return Err(format!(
+                "object {name:?}: repeat = {repeat} makes {total} objects, beyond umbra's limit of {MAX_OBJECTS}"
+            ));
+        }
         for i in 0..repeat {
             let at = o.translation.unwrap_or(Vec3::ZERO) + o.step.unwrap_or(Vec3::ZERO) * i as f32;
             let transform = Mat4::from_scale_rotation_translation(scale, rotation, at);
@@ -191,36 +222,74 @@ pub fn parse_scene(text: &str, dir: &Path, default_name: &str) -> Result<Scene, 
     Ok(scene)
 }
 
-/// Deepest tree a scene file may ask for (3^9 twigs: about 240 000 triangles).
-const MAX_TREE_DEPTH: u32 = 9;
+/// `value` if it is finite and > 0, else an error naming `field`.
+fn positive(field: &str, value: f32) -> Result<f32, String> {
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(format!("`{field}` = {value} must be finite and > 0"))
+    }
+}
+
+/// `value` (or `default`) if it lies in `min..=max`, else an error naming `field`.
+fn count(field: &str, value: Option<u32>, default: u32, min: u32, max: u32) -> Result<u32, String> {
+    match value.unwrap_or(default) {
+        v if (min..=max).contains(&v) => Ok(v),
+        v => Err(format!("`{field}` = {v} must be in {min}..={max}")),
+    }
+}
 
 fn build_mesh(source: &MeshSource, dir: &Path) -> Result<Mesh, String> {
     Ok(match *source {
-        MeshSource::Plane { size } => primitives::plane(size),
-        MeshSource::Box { half } => primitives::cuboid(half),
-        MeshSource::Sphere { radius, segments, rings } => {
-            primitives::sphere(radius, segments.unwrap_or(48), rings.unwrap_or(24))
-        }
-        MeshSource::Cylinder { radius, height, segments } => {
-            primitives::cylinder(radius, height, segments.unwrap_or(48))
-        }
-        MeshSource::File { ref path } => {
-            // A whole glTF file becomes one mesh, its node transforms baked in.
-            let sub = crate::import_gltf(&dir.join(path)).map_err(|e| e.to_string())?;
-            let mut merged = Mesh::default();
-            for o in &sub.objects {
-                merged.append(&sub.meshes[o.mesh].clone().transformed(o.transform));
+        MeshSource::Plane { size } => primitives::plane(positive("size", size)?),
+        MeshSource::Box { half } => {
+            for (axis, h) in ["x", "y", "z"].iter().zip(half.to_array()) {
+                positive(&format!("half.{axis}"), h)?;
             }
-            merged
+            primitives::cuboid(half)
         }
+        MeshSource::Sphere { radius, segments, rings } => primitives::sphere(
+            positive("radius", radius)?,
+            count("segments", segments, 48, 3, MAX_SEGMENTS)?,
+            count("rings", rings, 24, 2, MAX_SEGMENTS)?,
+        ),
+        MeshSource::Cylinder { radius, height, segments } => primitives::cylinder(
+            positive("radius", radius)?,
+            positive("height", height)?,
+            count("segments", segments, 48, 3, MAX_SEGMENTS)?,
+        ),
+        MeshSource::File { ref path } => merged_file(&dir.join(path))?,
         MeshSource::Tree { depth, seed } => crate::procedural::tree(
             seed.unwrap_or(crate::procedural::TREE_SEED),
-            depth.unwrap_or(7).min(MAX_TREE_DEPTH),
+            count("depth", depth, 7, 0, MAX_TREE_DEPTH)?,
         ),
         MeshSource::Triangles { ref positions, ref indices } => {
             Mesh::with_flat_normals("triangles", positions, indices).map_err(|e| e.to_string())?
         }
     })
+}
+
+/// A whole glTF file as one mesh, its node transforms baked in (at most
+/// [`MAX_VERTICES`] vertices and [`MAX_INDICES`] indices once instances are copied).
+fn merged_file(path: &Path) -> Result<Mesh, String> {
+    let sub = crate::import_gltf(path).map_err(|e| e.to_string())?;
+    let (mut vertices, mut indices) = (0usize, 0usize);
+    for o in &sub.objects {
+        vertices = vertices.saturating_add(sub.meshes[o.mesh].positions.len());
+        indices = indices.saturating_add(sub.meshes[o.mesh].indices.len());
+    }
+    if vertices > MAX_VERTICES || indices > MAX_INDICES {
+        return Err(format!(
+            "{}: its {} instances make {vertices} vertices and {indices} indices, beyond umbra's limits of {MAX_VERTICES} and {MAX_INDICES}",
+            path.display(),
+            sub.objects.len()
+        ));
+    }
+    let mut merged = Mesh::default();
+    for o in &sub.objects {
+        merged.append(&sub.meshes[o.mesh].clone().transformed(o.transform));
+    }
+    Ok(merged)
 }
 
 fn build_light(l: LightEntry) -> Result<Light, String> {

@@ -110,7 +110,7 @@ fn malformed_files_give_errors_not_panics() {
     let mut glb = b"glTF".to_vec();
     glb.extend([2, 0, 0, 0, 255, 255, 0, 0]);
     assert!(import_gltf_slice(&glb, "bad glb").is_err());
-    assert!(matches!(import_gltf(std::path::Path::new("/nonexistent/x.glb")), Err(SceneError::Gltf { .. })));
+    assert!(matches!(import_gltf(std::path::Path::new("/nonexistent/x.glb")), Err(SceneError::Io { .. })));
 }
 
 /// The repository's `assets/` folder, or `UMBRA_ASSETS`.
@@ -165,4 +165,26 @@ fn every_asset_loads_with_its_documented_triangle_count() {
         assert_eq!(mesh.normals.len(), 3 * mesh.triangle_count(), "{file} flat normals");
         assert!(mesh.normals.iter().all(|n| (n.length() - 1.0).abs() < 1e-3 || *n == Vec3::ZERO));
     }
+}
+
+#[test]
+fn sparse_accessors_substitute_their_values() {
+    // Vertex 2 of the triangle replaced by (0, 5, 0) through a sparse substitution read from
+    // a second buffer.
+    let mut sparse: Vec<u8> = 2u32.to_le_bytes().to_vec();
+    sparse.extend([0.0f32, 5.0, 0.0].iter().flat_map(|f| f.to_le_bytes()));
+    let second = format!(r#"{{"byteLength": 16, "uri": "data:application/octet-stream;base64,{}"}}"#, base64(&sparse));
+    let doc = document([0, 1, 2], r#"{"mesh": 0}"#, "")
+        .replace("\"}],\n  \"bufferViews\"", &format!("\"}}, {second}],\n  \"bufferViews\""))
+        .replace(
+            r#""byteOffset": 36, "byteLength": 12}]"#,
+            r#""byteOffset": 36, "byteLength": 12}, {"buffer": 1, "byteLength": 4}, {"buffer": 1, "byteOffset": 4, "byteLength": 12}]"#,
+        )
+        .replace(
+            r#""count": 3, "type": "VEC3""#,
+            r#""count": 3, "type": "VEC3", "sparse": {"count": 1, "indices": {"bufferView": 2, "componentType": 5125}, "values": {"bufferView": 3}}"#,
+        );
+    let scene = import_gltf_slice(doc.as_bytes(), "sparse").unwrap_or_else(|e| panic!("{e}\n{doc}"));
+    let p = &scene.meshes[0].positions;
+    assert!(p.contains(&Vec3::new(0.0, 5.0, 0.0)) && !p.contains(&Vec3::new(0.0, 1.0, 0.0)), "{p:?}");
 }

@@ -1,0 +1,111 @@
+//! The bad-input corpus (`tests/bad-input/`): every file there is a hostile or malformed scene
+//! that once panicked, aborted, read outside its folder or rendered garbage (issue #20), and
+//! `expected.toml` says what `umbra::scene::load` must answer now — an error containing the
+//! listed text, or a scene. A panic fails the test with the file's name; a file missing from
+//! the manifest fails it too.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Case {
+    /// The defect it reproduces (issue #20's list).
+    #[allow(dead_code)]
+    defect: String,
+    /// Text the error must contain; absent: the file must load.
+    error: Option<String>,
+}
+
+fn corpus() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/bad-input")
+}
+
+/// `load`'s answer for `path`: `Ok(None)` for a scene, `Ok(Some(message))` for an error, `Err`
+/// for a panic.
+fn outcome(path: &Path) -> Result<Option<String>, String> {
+    let spec = path.to_string_lossy().into_owned();
+    std::panic::catch_unwind(|| umbra::scene::load(&spec).err().map(|e| e.to_string()))
+        .map_err(|p| p.downcast_ref::<String>().cloned().unwrap_or_else(|| "panic".into()))
+}
+
+#[test]
+fn every_file_in_the_bad_input_corpus_gets_its_expected_answer() {
+    let manifest = std::fs::read_to_string(corpus().join("expected.toml")).expect("tests/bad-input/expected.toml");
+    let cases: BTreeMap<String, Case> = toml::from_str(&manifest).expect("expected.toml parses");
+    let mut failures = Vec::new();
+    let mut files: Vec<PathBuf> =
+        std::fs::read_dir(corpus()).expect("corpus folder").map(|e| e.unwrap().path()).collect();
+    files.sort();
+    let mut seen = 0;
+    for path in files.iter().filter(|p| p.file_name().is_some_and(|n| n != "expected.toml" && n != "README.md")) {
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        let got = outcome(path);
+        seen += 1;
+        match (cases.get(&name), &got) {
+            (_, Err(panic)) => failures.push(format!("{name}: PANICKED: {panic}")),
+            (None, Ok(answer)) => failures.push(format!("{name}: not in expected.toml; answered {answer:?}")),
+            (Some(Case { error: None, .. }), Ok(Some(e))) => failures.push(format!("{name}: should load, got {e}")),
+            (Some(Case { error: Some(want), .. }), Ok(None)) => failures.push(format!("{name}: loaded; want {want:?}")),
+            (Some(Case { error: Some(want), .. }), Ok(Some(e))) if !e.contains(want.as_str()) => {
+                failures.push(format!("{name}: {e}\n    does not contain {want:?}"))
+            }
+            _ => println!("{name}: {}", got.ok().flatten().unwrap_or_else(|| "loads".into())),
+        }
+    }
+    for name in cases.keys().filter(|n| !corpus().join(n).exists()) {
+        failures.push(format!("{name}: listed in expected.toml but missing"));
+    }
+    assert!(failures.is_empty(), "{} of {seen} corpus files:\n{}", failures.len(), failures.join("\n"));
+}
+
+/// A temporary folder for inputs that cannot live in the repository (FIFOs, links to devices).
+fn scratch(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("umbra-{test}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch folder");
+    dir
+}
+
+#[test]
+fn a_fifo_as_the_scene_is_refused_without_blocking() {
+    let dir = scratch("fifo");
+    let fifo = dir.join("scene.toml");
+    assert!(std::process::Command::new("mkfifo").arg(&fifo).status().expect("mkfifo").success());
+    let e = umbra::scene::load(&fifo.to_string_lossy()).expect_err("a FIFO is no scene");
+    assert!(e.to_string().contains("a FIFO, not a regular file"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn buffer_links_out_of_the_gltf_folder_are_not_followed() {
+    let dir = scratch("links");
+    let gltf = std::fs::read_to_string(corpus().join("gltf-uri-missing-bin.gltf")).unwrap();
+    std::fs::write(dir.join("scene.gltf"), &gltf).unwrap();
+    for target in ["/dev/zero", "/etc/passwd"] {
+        let _ = std::fs::remove_file(dir.join("missing.bin"));
+        std::os::unix::fs::symlink(target, dir.join("missing.bin")).unwrap();
+        let e = umbra::scene::load(&dir.join("scene.gltf").to_string_lossy()).expect_err("a link out");
+        assert!(e.to_string().contains("outside the glTF file's folder"), "{target}: {e}");
+    }
+    // From memory there is no folder at all: only embedded buffers.
+    let e = umbra::scene::import_gltf_slice(gltf.as_bytes(), "memory").expect_err("no folder");
+    assert!(e.to_string().contains("may only embed its buffers"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `Camera::MIN_NEAR_RATIO` is where the conformance suite measured exactness: hard case 07
+/// (exact with shadow volumes and the hybrid on both drivers) sits just above it, and the same
+/// camera with a near plane a tenth closer is refused.
+#[test]
+fn the_near_plane_bound_is_where_hard_case_07_is_measured_exact() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/hard-cases/07-huge-coordinates.toml");
+    let mut scene = umbra::scene::load(&path.to_string_lossy()).expect("case 07 loads");
+    let ratio = scene.camera.near / scene.camera_reach();
+    let bound = umbra::scene::Camera::MIN_NEAR_RATIO;
+    println!("case 07: near / reach = {ratio:e}; bound {bound:e}");
+    assert!((bound..bound * 1.25).contains(&ratio), "case 07 should sit just above the bound: {ratio:e}");
+    scene.camera.near *= 0.9;
+    let e = scene.validate().expect_err("below the bound");
+    assert!(e.to_string().contains("depth precision"), "{e}");
+}
