@@ -109,3 +109,14 @@ fn the_near_plane_bound_is_where_hard_case_07_is_measured_exact() {
     let e = scene.validate().expect_err("below the bound");
     assert!(e.to_string().contains("depth precision"), "{e}");
 }
+
+/// `docs/input.md` tabulates the corpus: every file in it is listed there.
+#[test]
+fn the_input_document_lists_every_corpus_file() {
+    let doc = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs/input.md"))
+        .expect("docs/input.md");
+    let manifest = std::fs::read_to_string(corpus().join("expected.toml")).expect("expected.toml");
+    let cases: BTreeMap<String, Case> = toml::from_str(&manifest).expect("expected.toml parses");
+    let missing: Vec<_> = cases.keys().filter(|f| !doc.contains(&format!("`{f}`"))).collect();
+    assert!(missing.is_empty(), "docs/input.md does not list {missing:?}");
+}

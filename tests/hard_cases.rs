@@ -107,19 +107,41 @@ hard_case! {
     case_21_non_finite_mesh => "21-non-finite-mesh",
 }
 
+/// Adds a spot light to `s` with its cone changed by `f`.
+fn spot(s: &mut Scene, f: fn(&mut umbra::scene::Spot)) {
+    let mut l = Light::spot(glam::Vec3::new(0.0, 4.0, 0.0), -glam::Vec3::Y, 20.0, 30.0, 1.0);
+    f(l.spot.as_mut().expect("a spot"));
+    s.lights.push(l);
+}
+
 /// Case 21 through the API: a scene built in code with a NaN or infinite vertex, a vertex at
-/// 1e30, an infinite transform or a NaN light is a typed `RenderError::Scene` before any GPU
-/// work (the renderer submits nothing), and the same renderer then renders a valid scene.
+/// 1e30, geometry beyond `MAX_COORDINATE`, an infinite transform, a NaN, negative or
+/// degenerate light, a degenerate camera (issue #20's list) or too many lights is a typed
+/// `RenderError::Scene` before any GPU work (the renderer submits nothing), and the same
+/// renderer then renders a valid scene.
 #[test]
 fn non_finite_and_huge_input_is_a_typed_error_before_any_gpu_work() {
     let valid = umbra::scene::load("cubes").expect("cubes");
     type Break = fn(&mut Scene);
-    let cases: [(&str, Break); 5] = [
+    let cases: [(&str, Break); 18] = [
         ("NaN vertex", |s| s.meshes[0].positions[0].y = f32::NAN),
         ("infinite vertex", |s| s.meshes[0].positions[1].x = f32::INFINITY),
         ("vertex at 1e30", |s| s.meshes[0].positions[2].z = 1e30),
         ("infinite transform", |s| s.objects[0].transform.w_axis.x = f32::INFINITY),
+        ("geometry at 1e11", |s| s.objects[0].transform.w_axis.x = 1e11),
         ("NaN light", |s| s.lights.push(Light::point(glam::Vec3::new(0.0, f32::NAN, 0.0), 1.0))),
+        ("negative intensity", |s| s.lights.push(Light::point(glam::Vec3::Y * 4.0, -1.0))),
+        ("spot direction zero", |s| spot(s, |c| c.direction = glam::Vec3::ZERO)),
+        ("spot outer NaN", |s| spot(s, |c| c.outer_deg = f32::NAN)),
+        ("spot inner above outer", |s| spot(s, |c| c.inner_deg = 45.0)),
+        ("camera fov 0", |s| s.camera.fov_y_deg = 0.0),
+        ("camera fov 180", |s| s.camera.fov_y_deg = 180.0),
+        ("camera up zero", |s| s.camera.up = glam::Vec3::ZERO),
+        ("camera at its target", |s| s.camera.target = s.camera.position),
+        ("near 1e-30", |s| s.camera.near = 1e-30),
+        ("NaN ambient", |s| s.ambient.x = f32::NAN),
+        ("infinite background", |s| s.background.y = f32::INFINITY),
+        ("1025 lights", |s| s.lights.resize(1025, Light::point(glam::Vec3::Y * 4.0, 1.0))),
     ];
     common::with_context(|ctx| {
         let mut desc = RendererDesc::new(common::SIZE.0, common::SIZE.1);

@@ -10,10 +10,10 @@
 pub const MAX_FILE_BYTES: u64 = 1 << 30;
 /// Largest TOML scene file read (16 MiB).
 pub const MAX_SCENE_FILE_BYTES: u64 = 16 << 20;
-/// Most vertices in one mesh (and elements in one glTF accessor): 2²⁵.
-pub const MAX_VERTICES: usize = 1 << 25;
-/// Most indices in one mesh: 3 × 2²⁵.
-pub const MAX_INDICES: usize = 3 << 25;
+/// Most vertices in one mesh (and elements in one glTF accessor): 2²⁴.
+pub const MAX_VERTICES: usize = 1 << 24;
+/// Most indices in one mesh: 3 × 2²⁴.
+pub const MAX_INDICES: usize = 3 << 24;
 /// Most placed objects in one scene (glTF node instances, scene-file `repeat`s): 2²⁰.
 pub const MAX_OBJECTS: usize = 1 << 20;
 /// Most lights in one scene.

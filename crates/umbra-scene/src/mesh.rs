@@ -86,7 +86,8 @@ pub struct Mesh {
 
 impl Mesh {
     /// A mesh from parts, checked: as many normals as positions, indices in range and a
-    /// multiple of three, finite positions.
+    /// multiple of three, finite positions within [`MAX_COORDINATE`], at most
+    /// [`crate::limits::MAX_VERTICES`] vertices and [`crate::limits::MAX_INDICES`] indices.
     pub fn new(
         name: impl Into<String>,
         positions: Vec<Vec3>,
@@ -103,6 +104,8 @@ impl Mesh {
     pub fn with_flat_normals(name: impl Into<String>, positions: &[Vec3], indices: &[u32]) -> SceneResult<Self> {
         let name = name.into();
         check_indices(&name, positions.len(), indices)?;
+        // Every index becomes a vertex of its own.
+        check_count(&name, "vertices (one per index, for flat normals)", indices.len(), crate::limits::MAX_VERTICES)?;
         let mut out = Self { name, ..Default::default() };
         for tri in indices.chunks_exact(3) {
             let [a, b, c] = [0, 1, 2].map(|k| positions[tri[k] as usize]);
@@ -178,6 +181,7 @@ impl Mesh {
 
     /// Checks the invariants listed on [`Mesh::new`].
     pub fn validate(&self) -> SceneResult<()> {
+        check_count(&self.name, "vertices", self.positions.len(), crate::limits::MAX_VERTICES)?;
         let bad = |why: String| Err(SceneError::InvalidMesh { mesh: self.name.clone(), why });
         if self.normals.len() != self.positions.len() {
             return bad(format!("{} normals for {} positions", self.normals.len(), self.positions.len()));
@@ -186,13 +190,26 @@ impl Mesh {
             return bad(format!("position {i} is not finite"));
         }
         if let Some(i) = self.positions.iter().position(|p| p.abs().max_element() > MAX_COORDINATE) {
-            return bad(format!("position {i} is beyond ±{MAX_COORDINATE:e} (crate::MAX_COORDINATE)"));
+            return bad(format!("position {i} is beyond ±{MAX_COORDINATE:e} (umbra_scene::MAX_COORDINATE)"));
         }
         check_indices(&self.name, self.positions.len(), &self.indices)
     }
 }
 
+/// A [`SceneError::Limit`] when mesh `name` has more than `limit` `what`.
+fn check_count(name: &str, what: &str, count: usize, limit: usize) -> SceneResult<()> {
+    if count > limit {
+        return Err(SceneError::Limit {
+            what: format!("mesh {name:?}: {what}"),
+            value: count as u64,
+            limit: limit as u64,
+        });
+    }
+    Ok(())
+}
+
 fn check_indices(name: &str, vertices: usize, indices: &[u32]) -> SceneResult<()> {
+    check_count(name, "indices", indices.len(), crate::limits::MAX_INDICES)?;
     let bad = |why: String| Err(SceneError::InvalidMesh { mesh: name.to_owned(), why });
     if indices.len() % 3 != 0 {
         return bad(format!("{} indices is not a multiple of 3", indices.len()));

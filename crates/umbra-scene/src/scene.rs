@@ -198,7 +198,8 @@ impl Scene {
             return Err(crate::SceneError::Limit { what: "lights".into(), value, limit });
         }
         for (i, l) in self.lights.iter().enumerate() {
-            l.validate().or_else(|why| invalid(format!("light {i} ({:?})", l.name), why))?;
+            let what = if l.name.is_empty() { format!("light {i}") } else { format!("light {i} ({:?})", l.name) };
+            l.validate().or_else(|why| invalid(what, why))?;
         }
         for (what, c) in [("ambient", self.ambient), ("background", self.background)] {
             if !(c.is_finite() && c.min_element() >= 0.0) {

@@ -1,4 +1,5 @@
-//! umbra's TOML scene files.
+//! umbra's TOML scene files. Unknown keys are errors in every table; counts and sizes are
+//! bounded by [`crate::limits`] (`docs/input.md` lists every rule).
 //!
 //! ```toml
 //! name = "demo"
@@ -264,7 +265,10 @@ fn build_mesh(source: &MeshSource, dir: &Path) -> Result<Mesh, String> {
             count("depth", depth, 7, 0, MAX_TREE_DEPTH)?,
         ),
         MeshSource::Triangles { ref positions, ref indices } => {
-            Mesh::with_flat_normals("triangles", positions, indices).map_err(|e| e.to_string())?
+            Mesh::with_flat_normals("triangles", positions, indices).map_err(|e| match e {
+                SceneError::InvalidMesh { why, .. } => why,
+                e => e.to_string(),
+            })?
         }
     })
 }

@@ -196,9 +196,6 @@ impl Reader<'_> {
                 return Err(format!("bufferViews[{view}].byteStride {} is invalid for {elem}-byte elements (must be {elem}..=252 and a multiple of {align})", s.0))
             }
         };
-        if (start + offset) % align as u64 != 0 {
-            return Err(format!("byte offset {} is not a multiple of the component size {align}", start + offset));
-        }
         let span = match count {
             0 => 0,
             n => {
@@ -209,6 +206,10 @@ impl Reader<'_> {
             return Err(format!(
                 "{count} elements of {elem} bytes (stride {stride}) from byte {offset} need {span} bytes; bufferViews[{view}] has {length}"
             ));
+        }
+        // Both below the buffer's length now: no overflow.
+        if (start + offset) % align as u64 != 0 {
+            return Err(format!("byte offset {} is not a multiple of the component size {align}", start + offset));
         }
         let from = (start + offset) as usize;
         Ok((&data[from..(end as usize).min(from + span as usize)], stride))
