@@ -4,6 +4,8 @@
 //! listed text, or a scene. A panic fails the test with the file's name; a file missing from
 //! the manifest fails it too.
 
+mod common;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -119,4 +121,26 @@ fn the_input_document_lists_every_corpus_file() {
     let cases: BTreeMap<String, Case> = toml::from_str(&manifest).expect("expected.toml parses");
     let missing: Vec<_> = cases.keys().filter(|f| !doc.contains(&format!("`{f}`"))).collect();
     assert!(missing.is_empty(), "docs/input.md does not list {missing:?}");
+}
+
+/// The corpus files that load (a missing KTX2 texture, …) render on the suite's device with
+/// the validation layer silent.
+#[test]
+fn corpus_files_that_load_render_validation_clean() {
+    let manifest = std::fs::read_to_string(corpus().join("expected.toml")).expect("expected.toml");
+    let cases: BTreeMap<String, Case> = toml::from_str(&manifest).expect("expected.toml parses");
+    let loading: Vec<_> = cases.iter().filter(|(_, c)| c.error.is_none()).map(|(f, _)| f.clone()).collect();
+    assert!(!loading.is_empty(), "the corpus has files that must load");
+    common::with_context(|ctx| {
+        let desc = umbra::shadows::RendererDesc::new(common::SIZE.0, common::SIZE.1);
+        let mut renderer = umbra::shadows::Renderer::new(ctx, desc).expect("renderer");
+        for file in &loading {
+            let mut scene = umbra::scene::load(&corpus().join(file).to_string_lossy()).expect("loads");
+            for light in &mut scene.lights {
+                light.technique = umbra::scene::Technique::ShadowVolume;
+            }
+            let frame = renderer.render(&scene).unwrap_or_else(|e| panic!("{file}: {e}"));
+            println!("{file}: {} triangles rendered on {}", frame.report.scene.triangles, frame.report.device);
+        }
+    });
 }

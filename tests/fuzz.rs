@@ -13,6 +13,8 @@
 //! (`UMBRA_DEVICE=llvmpipe`) and 2 (`swiftshader`; 0 otherwise); the longer run is
 //! `UMBRA_FUZZ_CASES=200000 UMBRA_FUZZ_SEED=$RANDOM cargo test --release --test fuzz -- --nocapture`.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 /// SplitMix64: small, seedable, good enough to pick mutations.
@@ -222,15 +224,26 @@ fn mutated(seed: &Seed, rng: &mut Rng) -> Vec<u8> {
     bytes
 }
 
-/// Loads `bytes` as the seed's kind would be loaded; `true` if it produced a scene.
-fn load(seed: &Seed, bytes: &[u8]) -> bool {
+/// Loads `bytes` as the seed's kind would be loaded.
+fn load(seed: &Seed, bytes: &[u8]) -> Option<umbra::scene::Scene> {
     match seed.kind {
-        Kind::Gltf | Kind::Glb => umbra::scene::import_gltf_slice(bytes, "fuzz").is_ok(),
+        Kind::Gltf | Kind::Glb => umbra::scene::import_gltf_slice(bytes, "fuzz").ok(),
         Kind::Toml => {
             let dir = seed.path.parent().unwrap_or(Path::new("."));
-            umbra::scene::parse_scene(&String::from_utf8_lossy(bytes), dir, "fuzz").is_ok()
+            umbra::scene::parse_scene(&String::from_utf8_lossy(bytes), dir, "fuzz").ok()
         }
     }
+}
+
+/// `UMBRA_FUZZ_SEED`, else one fixed seed per CI driver run, so the suite's two runs fuzz
+/// different cases.
+fn fuzz_seed() -> u64 {
+    let default = match std::env::var("UMBRA_DEVICE").as_deref() {
+        Ok("llvmpipe") => 1,
+        Ok("swiftshader") => 2,
+        _ => 0,
+    };
+    env_u64("UMBRA_FUZZ_SEED", default)
 }
 
 fn env_u64(name: &str, default: u64) -> u64 {
@@ -242,23 +255,24 @@ fn mutated_scenes_never_panic_the_loaders() {
     let seeds = seeds();
     assert!(seeds.len() >= 60, "only {} seeds", seeds.len());
     let cases = env_u64("UMBRA_FUZZ_CASES", 10_000);
-    // One fixed seed per CI driver run, so the suite's two runs fuzz different cases.
-    let default_seed = match std::env::var("UMBRA_DEVICE").as_deref() {
-        Ok("llvmpipe") => 1,
-        Ok("swiftshader") => 2,
-        _ => 0,
-    };
-    let seed = env_u64("UMBRA_FUZZ_SEED", default_seed);
+    let seed = fuzz_seed();
     let mut rng = Rng(seed);
     let crashes_dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("fuzz-crashes");
     let (mut loaded, mut crashes) = (0u64, Vec::new());
-    let quiet = std::panic::take_hook();
-    std::panic::set_hook(Box::new(|_| {}));
+    // Panics on this thread are caught and reported below; other tests' panics print as usual.
+    let fuzzing = std::thread::current().id();
+    let report: std::sync::Arc<dyn Fn(&std::panic::PanicHookInfo) + Send + Sync> = std::panic::take_hook().into();
+    let others = report.clone();
+    std::panic::set_hook(Box::new(move |info| {
+        if std::thread::current().id() != fuzzing {
+            others(info)
+        }
+    }));
     let start = std::time::Instant::now();
     for case in 0..cases {
         let s = &seeds[rng.below(seeds.len())];
         let bytes = mutated(s, &mut rng);
-        match std::panic::catch_unwind(|| load(s, &bytes)) {
+        match std::panic::catch_unwind(|| load(s, &bytes).is_some()) {
             Ok(ok) => loaded += ok as u64,
             Err(panic) => {
                 let why = panic
@@ -273,7 +287,8 @@ fn mutated_scenes_never_panic_the_loaders() {
             }
         }
     }
-    std::panic::set_hook(quiet);
+    let _ = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| report(info)));
     println!(
         "fuzz: {cases} cases from seed {seed} over {} seed files in {:.1} s: {loaded} loaded, {} typed errors, {} panics",
         seeds.len(),
@@ -282,4 +297,36 @@ fn mutated_scenes_never_panic_the_loaders() {
         crashes.len()
     );
     assert!(crashes.is_empty(), "{} panicking inputs:\n{}", crashes.len(), crashes.join("\n"));
+}
+
+/// Mutated scenes that load are drawn by the renderer on the suite's device (every light with
+/// the technique it asks for, shadow volumes where it asks for none): each frame is a frame or
+/// a typed error, and the validation layer stays silent. `UMBRA_FUZZ_RENDERS` (default 100).
+#[test]
+fn mutated_scenes_that_load_render_validation_clean() {
+    let seeds = seeds();
+    let renders = env_u64("UMBRA_FUZZ_RENDERS", 100);
+    let mut rng = Rng(fuzz_seed() ^ 0x5EED);
+    common::with_context(|ctx| {
+        let desc = umbra::shadows::RendererDesc::new(64, 48);
+        let mut renderer = umbra::shadows::Renderer::new(ctx, desc).expect("renderer");
+        let (mut frames, mut refused, mut tries) = (0, Vec::new(), 0);
+        while frames + refused.len() < renders as usize && tries < 100_000 {
+            tries += 1;
+            let s = &seeds[rng.below(seeds.len())];
+            let Some(mut scene) = load(s, &mutated(s, &mut rng)) else { continue };
+            for light in scene.lights.iter_mut().filter(|l| l.technique == umbra::scene::Technique::Unshadowed) {
+                light.technique = umbra::scene::Technique::ShadowVolume;
+            }
+            match renderer.render(&scene) {
+                Ok(_) => frames += 1,
+                Err(e) => refused.push(format!("{} (from {}): {e}", scene.name, s.path.display())),
+            }
+        }
+        println!("fuzz renders: {frames} frames, {} typed errors, after {tries} mutations", refused.len());
+        for r in &refused {
+            println!("  refused: {r}");
+        }
+        assert!(frames > 0, "no mutated scene rendered");
+    });
 }
