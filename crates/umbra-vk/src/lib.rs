@@ -53,7 +53,7 @@ pub use context::{Context, ContextOptions, ExternalDevice, VALIDATION_ENV};
 pub use descriptors::{Binding, DescriptorSet, DescriptorSetLayout, Resource};
 pub use error::{VkError, VkResult};
 pub use image::{format_aspect, texel_size, Image, ImageDesc, ImageState, ImageView};
-pub use limits::{human_bytes, ImageLimits, Limit};
+pub use limits::{element_bytes, human_bytes, ImageLimits, Limit};
 pub use memory::Memory;
 pub use pipeline::{
     Blend, ColorTarget, DepthState, GraphicsPipeline, GraphicsPipelineDesc, PipelineLayout, StencilFace,
