@@ -71,7 +71,7 @@ fn main() -> anyhow::Result<()> {
         );
         anyhow::ensure!(differing == 0, "planning changed {differing} pixels");
     }
-    Ok(())
+    common::check_validation(&ctx)
 }
 
 /// Prints the plan: per light its technique (and `auto`'s reason), passes and culled casters.

@@ -28,8 +28,8 @@ struct Args {
     #[command(flatten)]
     common: common::CommonArgs,
     /// Shadow-map resolution, texels per side (default: below the image's, see
-    /// HybridSettings::default_resolution).
-    #[arg(long)]
+    /// HybridSettings::default_resolution): at least 64, at most what the device takes.
+    #[arg(long, value_parser = common::flags::parse_sm_size)]
     sm_size: Option<u32>,
     /// Computation mask: depth-bounds, stencil or none (default: depth-bounds where the
     /// device has depthBounds, else stencil).
@@ -48,7 +48,7 @@ fn write_debug_views(args: &Args, frame: &umbra::shadows::Frame, d: &LightDiagno
     let out = &args.common.out;
     let save = |name: String, rgba: &[u8]| -> anyhow::Result<()> {
         let path = out.join(name);
-        image::save_buffer(&path, rgba, w, h, image::ColorType::Rgba8)?;
+        common::save_rgba(&path, rgba, w, h)?;
         println!("wrote {}", path.display());
         Ok(())
     };
@@ -111,5 +111,5 @@ fn main() -> anyhow::Result<()> {
             write_debug_views(&args, &frame, d)?;
         }
     }
-    Ok(())
+    common::check_validation(&ctx)
 }

@@ -53,5 +53,6 @@ fn main() -> anyhow::Result<()> {
     let ctx = umbra::vk::Context::new()?;
     let mut renderer = Renderer::new(&ctx, desc)?;
     let frame = common::render_warm(&mut renderer, &scene, &args.common)?;
-    common::write_outputs(&args.common, "render", &frame)
+    common::write_outputs(&args.common, "render", &frame)?;
+    common::check_validation(&ctx)
 }

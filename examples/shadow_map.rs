@@ -17,27 +17,23 @@ use umbra::shadows::{DepthBias, Renderer, RendererDesc, ShadowFilter, ShadowMapS
 struct Args {
     #[command(flatten)]
     common: common::CommonArgs,
-    /// Shadow-map resolution, texels per side (cube maps: per face).
-    #[arg(long, default_value_t = ShadowMapSettings::DEFAULT.resolution)]
+    /// Shadow-map resolution, texels per side (cube maps: per face): at least 64, at most what
+    /// the device takes (checked per light, naming the limit).
+    #[arg(long, default_value_t = ShadowMapSettings::DEFAULT.resolution, value_parser = common::flags::parse_sm_size)]
     sm_size: u32,
     /// Lookup filter: nearest, pcf2x2 (hardware), pcf3x3 or pcf5x5.
     #[arg(long, default_value = "pcf2x2")]
     filter: ShadowFilter,
-    /// Depth bias CONSTANT,SLOPE (vkCmdSetDepthBias; the filter's radius is added to SLOPE).
-    #[arg(long, value_parser = parse_bias)]
+    /// Depth bias CONSTANT,SLOPE (vkCmdSetDepthBias; the filter's radius is added to SLOPE):
+    /// CONSTANT in 0..=1e5, SLOPE in 0..=100.
+    #[arg(long, value_parser = common::flags::parse_bias)]
     bias: Option<DepthBias>,
-    /// Normal offset of the lookup point, in world units.
-    #[arg(long, default_value_t = 0.0)]
+    /// Normal offset of the lookup point, in world units (0..=1e4).
+    #[arg(long, default_value_t = 0.0, value_parser = common::flags::parse_normal_offset)]
     normal_offset: f32,
     /// Shade points outside a light's shadow frustum as shadowed instead of lit.
     #[arg(long)]
     outside_shadowed: bool,
-}
-
-fn parse_bias(s: &str) -> Result<DepthBias, String> {
-    let (c, k) = s.split_once(',').ok_or_else(|| format!("{s:?} is not CONSTANT,SLOPE"))?;
-    let num = |v: &str| v.trim().parse::<f32>().map_err(|e| format!("{v:?}: {e}"));
-    Ok(DepthBias { constant: num(c)?, slope: num(k)?, clamp_texels: None })
 }
 
 fn main() -> anyhow::Result<()> {
@@ -74,5 +70,6 @@ fn main() -> anyhow::Result<()> {
             (None, None) => {}
         }
     }
-    common::write_outputs(&args.common, "shadow_map", &frame)
+    common::write_outputs(&args.common, "shadow_map", &frame)?;
+    common::check_validation(&ctx)
 }

@@ -20,10 +20,10 @@ struct Args {
     /// Counting mode: zpass, zfail or auto (per caster, §3.4).
     #[arg(long, default_value = "auto")]
     mode: VolumeMode,
-    /// Number of lights: the scene's first light, plus copies circling it (dimmed to keep
-    /// the total).
-    #[arg(long, default_value_t = 1)]
-    lights: usize,
+    /// Number of lights, 1 to 64: the scene's first light, plus copies circling it (dimmed to
+    /// keep the total). 0 is refused (render with --technique unshadowed for no shadows).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=MAX_LIGHTS))]
+    lights: u32,
     /// Also write the volume overdraw heat map and count volume fragments.
     #[arg(long)]
     show_volumes: bool,
@@ -32,12 +32,22 @@ struct Args {
     depth_clamp: bool,
 }
 
+/// Most lights `--lights` makes: each light is a stencil pass and a lighting pass over the
+/// whole frame, and its volumes are built on the CPU.
+const MAX_LIGHTS: i64 = 64;
+
 fn main() -> anyhow::Result<()> {
     common::init_logging();
     let args = Args::parse();
     let mut scene = args.common.scene_with(Technique::ShadowVolume)?;
+    anyhow::ensure!(
+        args.lights == 1 || !scene.lights.is_empty(),
+        "--lights {}: the scene {:?} has no light to copy",
+        args.lights,
+        args.common.scene
+    );
     if let Some(first) = scene.lights.first().cloned() {
-        let n = args.lights.max(1);
+        let n = args.lights as usize;
         let centre = scene.bounds().center();
         scene.lights = (0..n)
             .map(|i| {
@@ -88,7 +98,7 @@ fn main() -> anyhow::Result<()> {
     if let Some(overdraw) = &frame.overdraw {
         let heat: Vec<u8> = overdraw.chunks_exact(4).flat_map(|p| common::views::heat(p[0])).collect();
         let path = args.common.out.join("shadow_volume_overdraw.png");
-        image::save_buffer(&path, &heat, width, height, image::ColorType::Rgba8)?;
+        common::save_rgba(&path, &heat, width, height)?;
         let max = overdraw.chunks_exact(4).map(|p| p[0]).max().unwrap_or(0);
         println!(
             "wrote {} (max {max} volume fragments on one pixel{})",
@@ -96,5 +106,5 @@ fn main() -> anyhow::Result<()> {
             if max == 255 { ", saturated" } else { "" }
         );
     }
-    Ok(())
+    common::check_validation(&ctx)
 }

@@ -19,6 +19,7 @@
 
 mod common;
 
+use anyhow::Context as _;
 use clap::Parser;
 use umbra::scene::Technique;
 use umbra::shadows::{LightDiagnostics, Renderer, RendererDesc, ShadowMapSettings};
@@ -28,8 +29,9 @@ use umbra::shadows::{LightDiagnostics, Renderer, RendererDesc, ShadowMapSettings
 struct Args {
     #[command(flatten)]
     common: common::CommonArgs,
-    /// Depth-map and silhouette-map resolution, texels per side.
-    #[arg(long, default_value_t = 512)]
+    /// Depth-map and silhouette-map resolution, texels per side: at least 64, at most what the
+    /// device takes (checked per light, naming the limit).
+    #[arg(long, default_value_t = 512, value_parser = common::flags::parse_sm_size)]
     sm_size: u32,
     /// Also write the silhouette-point and classification views and the silhouette map.
     #[arg(long)]
@@ -44,9 +46,9 @@ fn write_debug_views(args: &Args, frame: &umbra::shadows::Frame, d: &LightDiagno
     let out = &args.common.out;
     let points = out.join(format!("silhouette_map-points-{}.png", d.light));
     let over = d.points_over(&frame.rgba).ok_or_else(|| anyhow::anyhow!("light {} has no points view", d.light))?;
-    image::save_buffer(&points, &over, w, h, image::ColorType::Rgba8)?;
+    common::save_rgba(&points, &over, w, h)?;
     let classes = out.join(format!("silhouette_map-classes-{}.png", d.light));
-    image::save_buffer(&classes, &d.classification, w, h, image::ColorType::Rgba8)?;
+    common::save_rgba(&classes, &d.classification, w, h)?;
     println!("wrote {} and {}", points.display(), classes.display());
     if let Some(map) = &d.silhouette_map {
         let exr_path = out.join(format!("silhouette_map-{}.exr", d.light));
@@ -54,7 +56,8 @@ fn write_debug_views(args: &Args, frame: &umbra::shadows::Frame, d: &LightDiagno
         exr::prelude::write_rgb_file(&exr_path, res, res, |x, y| {
             let [u, v] = map.points[y * res + x];
             (u, v, 0.0f32)
-        })?;
+        })
+        .with_context(|| format!("writing {}", exr_path.display()))?;
         println!(
             "wrote {} ({} of {} texels hold a silhouette point)",
             exr_path.display(),
@@ -104,5 +107,5 @@ fn main() -> anyhow::Result<()> {
             write_debug_views(&args, &frame, d)?;
         }
     }
-    Ok(())
+    common::check_validation(&ctx)
 }

@@ -3,10 +3,12 @@
 
 pub mod animate;
 pub mod controls;
+pub mod flags;
 pub mod views;
 pub mod window;
 
-use std::path::PathBuf;
+use anyhow::Context as _;
+use std::path::{Path, PathBuf};
 
 /// The flags every example takes.
 #[derive(clap::Args, Clone, Debug)]
@@ -16,25 +18,26 @@ pub struct CommonArgs {
     #[arg(long, default_value = "cubes")]
     pub scene: String,
     /// Target size, WIDTHxHEIGHT.
-    #[arg(long, default_value = "1024x768", value_parser = parse_size)]
+    #[arg(long, default_value = "1024x768", value_parser = flags::parse_size)]
     pub size: (u32, u32),
     /// Output folder (created if missing).
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
     /// Frames rendered and discarded before the reported one (drivers compile shaders and
-    /// fill caches on first use, so a cold frame's timings mislead).
-    #[arg(long, default_value_t = 2)]
+    /// fill caches on first use, so a cold frame's timings mislead), 0 to 1000.
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(0..=flags::MAX_WARMUP as i64))]
     pub warmup: u32,
     /// Animation time in seconds: light 0 orbits the scene's vertical axis, a full turn in 12 s
-    /// (0: the scene as loaded). A windowed run prints the time of its screenshot.
-    #[arg(long, default_value_t = 0.0)]
+    /// (0: the scene as loaded); finite, at most 10^6 either way. A windowed run prints the
+    /// time of its screenshot.
+    #[arg(long, default_value_t = 0.0, value_parser = flags::parse_time, allow_negative_numbers = true)]
     pub time: f32,
     /// Open a window and render interactively (keys and mouse: docs/window.md); without it the
     /// example renders one frame headless and writes its files.
     #[arg(long)]
     pub window: bool,
-    /// Quit after this many frames.
-    #[arg(long, requires = "window")]
+    /// Quit after this many frames (1 to 10^6).
+    #[arg(long, requires = "window", value_parser = clap::value_parser!(u64).range(1..=flags::MAX_FRAMES))]
     pub frames: Option<u64>,
     /// Save the last presented image, read back from the swapchain, as PNG (with the frame's
     /// report beside it as JSON); needs --frames.
@@ -44,8 +47,8 @@ pub struct CommonArgs {
     #[arg(long, requires = "window", value_parser = window::parse_resize)]
     pub resize_at: Option<(u64, (u32, u32))>,
     /// Keep the last frame on screen this many seconds before quitting (for screenshots taken
-    /// from outside the process).
-    #[arg(long, requires = "frames", default_value_t = 0.0)]
+    /// from outside the process), 0 to 3600.
+    #[arg(long, requires = "frames", default_value_t = 0.0, value_parser = flags::parse_hold)]
     pub hold: f32,
     /// Present without waiting for vertical blank (mailbox or immediate, where offered).
     #[arg(long, requires = "window")]
@@ -88,12 +91,6 @@ pub fn render_warm(
     Ok(renderer.render(scene)?)
 }
 
-pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("{s:?} is not WIDTHxHEIGHT"))?;
-    let parse = |v: &str| v.trim().parse::<u32>().map_err(|e| format!("{v:?}: {e}"));
-    Ok((parse(w)?, parse(h)?))
-}
-
 /// Logging to stderr (`RUST_LOG` overrides the `info` default).
 pub fn init_logging() {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("info")).init();
@@ -108,9 +105,34 @@ pub fn warn_open_casters(report: &umbra::shadows::FrameReport) {
     }
 }
 
+/// Creates the folder `dir` (and its parents); the error names it.
+pub fn create_dir(dir: &Path) -> anyhow::Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("creating the output folder {}", dir.display()))
+}
+
+/// Writes `rgba` (`width` × `height` RGBA8) as the PNG `path`; the error names it.
+#[allow(dead_code)]
+pub fn save_rgba(path: &Path, rgba: &[u8], width: u32, height: u32) -> anyhow::Result<()> {
+    image::save_buffer(path, rgba, width, height, image::ColorType::Rgba8)
+        .with_context(|| format!("writing {}", path.display()))
+}
+
+/// Fails when the validation layer (`UMBRA_VALIDATION=1`) reported anything so far: an example
+/// never exits 0 over validation errors.
+pub fn check_validation(ctx: &umbra::vk::Context) -> anyhow::Result<()> {
+    let v = ctx.validation();
+    anyhow::ensure!(
+        v.total() == 0,
+        "the validation layer reported {} errors and {} warnings (messages in the log above)",
+        v.errors(),
+        v.warnings()
+    );
+    Ok(())
+}
+
 /// Writes `<out>/<stem>.png` and `<out>/<stem>.json` and prints a summary of the report.
 pub fn write_outputs(args: &CommonArgs, stem: &str, frame: &umbra::shadows::Frame) -> anyhow::Result<()> {
-    std::fs::create_dir_all(&args.out)?;
+    create_dir(&args.out)?;
     let png = args.out.join(format!("{stem}.png"));
     let json = args.out.join(format!("{stem}.json"));
     frame.save_png(&png)?;

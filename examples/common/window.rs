@@ -451,9 +451,9 @@ impl Viewer {
             None => self.args.out.join(format!("{}-window-{}.png", self.name, self.frames)),
         };
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir)?;
+            super::create_dir(dir)?;
         }
-        image::save_buffer(&path, rgba, width, height, image::ColorType::Rgba8)?;
+        super::save_rgba(&path, rgba, width, height)?;
         frame.save_report(&path.with_extension("json"))?;
         let same = (width, height) == (frame.width, frame.height);
         println!(
@@ -558,5 +558,8 @@ fn title(name: &str, frame: &Frame, status: &Status) -> String {
 pub fn parse_resize(s: &str) -> Result<(u64, (u32, u32)), String> {
     let (frame, size) = s.split_once(':').ok_or_else(|| format!("{s:?} is not FRAME:WIDTHxHEIGHT"))?;
     let frame = frame.trim().parse::<u64>().map_err(|e| format!("{frame:?}: {e}"))?;
-    Ok((frame, super::parse_size(size)?))
+    if frame == 0 {
+        return Err(format!("{s:?}: FRAME counts from 1 (the first presented frame)"));
+    }
+    Ok((frame, super::flags::parse_size(size)?))
 }

@@ -36,8 +36,8 @@ struct SweepArgs {
     /// Techniques: sm (shadow map), silmap (silhouette map), sv (shadow volumes), hybrid.
     #[arg(long, value_delimiter = ',', default_value = "sm,silmap,sv,hybrid")]
     techniques: Vec<String>,
-    /// Shadow-map sizes (sm, silmap, hybrid).
-    #[arg(long, value_delimiter = ',', default_value = "256,512,1024,2048,4096")]
+    /// Shadow-map sizes (sm, silmap, hybrid), each at least 64.
+    #[arg(long, value_delimiter = ',', default_value = "256,512,1024,2048,4096", value_parser = crate::sm_size_parser())]
     sm_sizes: Vec<u32>,
     /// Shadow-map filters (sm): nearest, pcf2x2, pcf3x3, pcf5x5.
     #[arg(long, value_delimiter = ',', default_value = "nearest,pcf2x2")]
@@ -48,11 +48,11 @@ struct SweepArgs {
     /// Image size, WIDTHxHEIGHT.
     #[arg(long, default_value = "1024x768", value_parser = crate::parse_size)]
     size: (u32, u32),
-    /// Timed frames per configuration.
-    #[arg(long, default_value_t = 30)]
+    /// Timed frames per configuration (1 to 10000).
+    #[arg(long, default_value_t = 30, value_parser = crate::frames_parser())]
     frames: usize,
-    /// Frames rendered and discarded first (shader compilation, caches).
-    #[arg(long, default_value_t = 3)]
+    /// Frames rendered and discarded first (shader compilation, caches), 0 to 1000.
+    #[arg(long, default_value_t = 3, value_parser = crate::warmup_parser())]
     warmup: usize,
     /// Output folder (created if missing).
     #[arg(long, default_value = "bench-out")]
@@ -63,7 +63,7 @@ struct SweepArgs {
     spot_lights: bool,
     /// Bound every point and spot light to this range (world units): the light adds exactly
     /// nothing beyond it, so planning can cull by it (scissor, depth bounds, casters).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::parse_light_range)]
     light_range: Option<f32>,
     /// Also measure every configuration without frame planning (`RendererDesc::cull` off):
     /// the summary's `--no-cull` column, and a check that the image is the same.
@@ -205,4 +205,33 @@ fn write_outputs(results: &Results, scenes: &[String], out: &Path) -> BenchResul
         plotted.iter().map(|(_, f)| f.len()).sum::<usize>()
     );
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn unchecked_numbers_are_refused_naming_the_flag() {
+        let cases: [(&[&str], &str); 10] = [
+            (&["sweep", "--frames", "0"], "--frames"),
+            (&["sweep", "--warmup", "18446744073709551615"], "--warmup"),
+            (&["sweep", "--sm-sizes", "256,0"], "--sm-sizes"),
+            (&["sweep", "--light-range", "nan"], "--light-range"),
+            (&["sweep", "--light-range=-2"], "--light-range"),
+            (&["sweep", "--size", "0x10"], "--size"),
+            (&["poster", "--sm-size", "32"], "--sm-size"),
+            (&["poster", "--frames", "0"], "--frames"),
+            (&["poster", "--warmup", "5000"], "--warmup"),
+            (&["hard-cases", "--size", "10x0"], "--size"),
+        ];
+        for (args, flag) in cases {
+            let err =
+                Cli::try_parse_from(std::iter::once("umbra-bench").chain(args.iter().copied())).expect_err("refused");
+            let text = err.to_string();
+            assert!(text.contains(&format!("'{flag} <")), "{args:?}: {text}");
+        }
+        let ok = ["umbra-bench", "sweep", "--frames", "1", "--warmup", "0", "--sm-sizes", "64", "--light-range", "5"];
+        assert!(Cli::try_parse_from(ok).is_ok());
+    }
 }

@@ -44,6 +44,37 @@ pub mod sweep;
 
 pub use error::{BenchError, BenchResult};
 
+/// Most frames `--frames` times per configuration.
+pub const MAX_FRAMES: u64 = 10_000;
+/// Most frames `--warmup` renders and discards first.
+pub const MAX_WARMUP: u64 = 1_000;
+
+/// `--frames`: 1 to [`MAX_FRAMES`].
+pub(crate) fn frames_parser() -> clap::builder::RangedU64ValueParser<usize> {
+    clap::builder::RangedU64ValueParser::<usize>::new().range(1..=MAX_FRAMES)
+}
+
+/// `--warmup`: 0 to [`MAX_WARMUP`].
+pub(crate) fn warmup_parser() -> clap::builder::RangedU64ValueParser<usize> {
+    clap::builder::RangedU64ValueParser::<usize>::new().range(0..=MAX_WARMUP)
+}
+
+/// `--sm-size(s)`: at least `ShadowMapSettings::MIN_RESOLUTION` (the device's maximum is
+/// checked per light by the renderer, which names the limit; the sweep skips such sizes).
+pub(crate) fn sm_size_parser() -> clap::builder::RangedI64ValueParser<u32> {
+    clap::value_parser!(u32).range(i64::from(umbra_shadows::ShadowMapSettings::MIN_RESOLUTION)..)
+}
+
+/// Parses a light range: a finite distance above 0, at most `umbra_scene::MAX_COORDINATE`.
+pub fn parse_light_range(s: &str) -> Result<f32, String> {
+    let v = s.trim().parse::<f32>().map_err(|e| format!("{s:?}: {e}"))?;
+    if v.is_finite() && v > 0.0 && v <= umbra_scene::MAX_COORDINATE {
+        Ok(v)
+    } else {
+        Err(format!("{} is not a finite distance in (0, {:e}]", s.trim(), umbra_scene::MAX_COORDINATE))
+    }
+}
+
 /// Parses `WIDTHxHEIGHT`, each side at least 1.
 pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("{s:?} is not WIDTHxHEIGHT"))?;

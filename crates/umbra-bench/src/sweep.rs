@@ -206,12 +206,16 @@ fn total_gpu(frames: &[Frame]) -> Option<Spread> {
     Spread::of(&frames.iter().filter_map(|f| f.report.total_gpu_ms).collect::<Vec<_>>())
 }
 
-/// A typed "unsupported" becomes a skip reason; anything else stops the sweep.
+/// A typed "unsupported" or "over a device limit or the shadow-map budget" becomes a skip
+/// reason; anything else stops the sweep.
 fn unsupported_or<T>(e: RenderError) -> BenchResult<Result<T, String>> {
     match e {
-        RenderError::Vk(VkError::Unsupported { .. })
+        RenderError::Vk(VkError::Unsupported { .. } | VkError::DeviceLimit { .. })
         | RenderError::UnsupportedLight { .. }
-        | RenderError::InvalidShadowMap { .. } => Ok(Err(e.to_string())),
+        | RenderError::InvalidShadowMap { .. }
+        | RenderError::InvalidSize { limit: Some(_), .. }
+        | RenderError::DeviceLimit { .. }
+        | RenderError::ShadowBudget { .. } => Ok(Err(e.to_string())),
         e => Err(e.into()),
     }
 }

@@ -1,6 +1,8 @@
 //! The one error type of `umbra-shadows`.
 
+use crate::budget::ShadowStorage;
 use umbra_scene::Technique;
+use umbra_vk::Limit;
 
 /// Everything that can go wrong rendering a frame.
 #[derive(Debug, thiserror::Error)]
@@ -21,7 +23,7 @@ pub enum RenderError {
         /// Why, and what to use instead.
         why: String,
     },
-    /// A shadow map's resolution is outside 64..=the device limit.
+    /// A shadow map's resolution is outside 64..=the device limits.
     #[error("shadow map of light {light}: resolution {resolution}: {why}")]
     InvalidShadowMap {
         /// Index of the light.
@@ -30,6 +32,8 @@ pub enum RenderError {
         resolution: u32,
         /// The accepted range and the limit it comes from.
         why: String,
+        /// The device limit it breaks (`None`: below the minimum, or an internal misuse).
+        limit: Option<Limit>,
     },
     /// The target size is unusable.
     #[error("invalid target size {width}x{height}: {why}")]
@@ -40,6 +44,48 @@ pub enum RenderError {
         height: u32,
         /// Why it is invalid.
         why: String,
+        /// The device limit it breaks (`None`: a zero side).
+        limit: Option<Limit>,
+    },
+    /// A buffer the frame binds would be larger than a device limit allows
+    /// (`maxStorageBufferRange` for the object, light and shadow-view buffers,
+    /// `maxUniformBufferRange` for the frame uniforms, `maxBufferSize` or
+    /// `maxMemoryAllocationSize` for the vertex and index buffers). Checked before any GPU work.
+    #[error("{what}, but {limit} on {device}")]
+    DeviceLimit {
+        /// What needs how much (`1000000 objects need 137.3 MiB of object buffer (144 bytes each)`).
+        what: String,
+        /// The limit it breaks, with its value.
+        limit: Limit,
+        /// The device name.
+        device: String,
+    },
+    /// The frame's shadow maps need more memory than `RendererDesc::shadow_map_budget_bytes`;
+    /// checked before any of them is allocated.
+    #[error(
+        "the frame's shadow maps need {} ({}), over RendererDesc::shadow_map_budget_bytes = {}: lower the \
+         maps' resolution (shadow_map.resolution, the lights' shadow_map_size), shadow fewer lights, or raise the budget",
+        umbra_vk::human_bytes(*bytes),
+        lights.iter().map(ToString::to_string).collect::<Vec<_>>().join(", "),
+        umbra_vk::human_bytes(*budget)
+    )]
+    ShadowBudget {
+        /// Every light with shadow storage this frame, with what it needs.
+        lights: Vec<ShadowStorage>,
+        /// Their sum in bytes.
+        bytes: u64,
+        /// The budget in bytes.
+        budget: u64,
+    },
+    /// A renderer setting is not finite or outside its accepted range.
+    #[error("{field} = {value} is not accepted: {accepted}")]
+    InvalidSetting {
+        /// The field (`shadow_map.bias.constant`, …).
+        field: &'static str,
+        /// The value given.
+        value: String,
+        /// The accepted range.
+        accepted: String,
     },
     /// Writing an output file failed.
     #[error("writing {path}: {message}")]

@@ -18,6 +18,12 @@ use umbra_vk::{
 /// Both targets' format: 32-bit floats, so positions keep every bit the shader computed.
 const FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 
+/// Each G-buffer target of a `width` × `height` frame.
+pub(crate) fn target_desc(width: u32, height: u32) -> ImageDesc {
+    let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
+    ImageDesc::new_2d(FORMAT, width, height).usage(usage)
+}
+
 /// The G-buffer's pipeline, targets and readbacks.
 pub(crate) struct GBufferPass {
     pipeline: GraphicsPipeline,
@@ -39,8 +45,7 @@ impl GBufferPass {
         let targets = [ColorTarget::opaque(FORMAT), ColorTarget::opaque(FORMAT)];
         desc.color_targets = &targets;
         let pipeline = GraphicsPipeline::new(ctx, layout, &desc)?;
-        let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
-        let image = |name| Image::new(ctx, name, ImageDesc::new_2d(FORMAT, width, height).usage(usage));
+        let image = |name| Image::new(ctx, name, target_desc(width, height));
         let bytes = 16 * u64::from(width) * u64::from(height);
         Ok(Self {
             pipeline,

@@ -2,11 +2,13 @@
 //! light storage buffers, the frame uniforms, and the descriptor set that binds them.
 //! Layouts mirror `shaders-glsl/common/scene.glsl`.
 
-use crate::RenderResult;
+use crate::{RenderError, RenderResult};
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 use umbra_scene::{Mesh, Scene};
-use umbra_vk::{vk, Binding, Buffer, Context, DescriptorSet, DescriptorSetLayout, Resource, VertexAttribute};
+use umbra_vk::{
+    vk, Binding, Buffer, Capabilities, Context, DescriptorSet, DescriptorSetLayout, Limit, Resource, VertexAttribute,
+};
 
 /// Interleaved vertex: position then normal.
 #[repr(C)]
@@ -113,6 +115,66 @@ pub(crate) fn scene_set_layout(ctx: &Context) -> RenderResult<DescriptorSetLayou
     )?)
 }
 
+/// How many of each thing a frame uploads, for [`check_limits`].
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct SceneCounts {
+    pub vertices: usize,
+    pub indices: usize,
+    pub objects: usize,
+    pub lights: usize,
+    pub shadow_views: usize,
+}
+
+impl SceneCounts {
+    /// The counts of `scene` (every mesh packed once), with `shadow_views` views.
+    pub fn of(scene: &Scene, shadow_views: usize) -> Self {
+        Self {
+            vertices: scene.meshes.iter().map(|m| m.positions.len()).sum(),
+            indices: scene.meshes.iter().map(|m| m.indices.len()).sum(),
+            objects: scene.objects.len(),
+            lights: scene.lights.len(),
+            shadow_views,
+        }
+    }
+}
+
+/// A typed [`RenderError::DeviceLimit`] when a buffer of the frame would not fit its device
+/// limit: the object, light and shadow-view storage buffers `maxStorageBufferRange` (bound
+/// whole), the frame uniforms `maxUniformBufferRange`, the vertex and index buffers
+/// `maxBufferSize` and `maxMemoryAllocationSize`. Checked before anything is packed or
+/// allocated.
+pub(crate) fn check_limits(caps: &Capabilities, counts: SceneCounts) -> RenderResult<()> {
+    let storage = Limit::bytes("maxStorageBufferRange", caps.max_storage_buffer_range);
+    let uniform = Limit::bytes("maxUniformBufferRange", caps.max_uniform_buffer_range);
+    let buffer = [
+        Limit::bytes("maxBufferSize", caps.max_buffer_size),
+        Limit::bytes("maxMemoryAllocationSize", caps.max_memory_allocation_size),
+    ];
+    let buffer = if buffer[1].value < buffer[0].value { buffer[1] } else { buffer[0] };
+    let checks = [
+        (counts.vertices, std::mem::size_of::<Vertex>(), "vertices", "vertex buffer", buffer),
+        (counts.indices, std::mem::size_of::<u32>(), "indices", "index buffer", buffer),
+        (1, std::mem::size_of::<FrameUniforms>(), "frame", "frame uniforms", uniform),
+        (counts.objects, std::mem::size_of::<GpuObject>(), "objects", "object buffer", storage),
+        (counts.lights, std::mem::size_of::<GpuLight>(), "lights", "light buffer", storage),
+        (counts.shadow_views, std::mem::size_of::<[f32; 16]>(), "shadow views", "shadow-view buffer", storage),
+    ];
+    for (count, stride, items, buffer, limit) in checks {
+        let bytes = (count as u64).saturating_mul(stride as u64);
+        if bytes > limit.value {
+            return Err(RenderError::DeviceLimit {
+                what: format!(
+                    "{count} {items} need {bytes} bytes ({}) of {buffer} ({stride} bytes each)",
+                    umbra_vk::human_bytes(bytes)
+                ),
+                limit,
+                device: caps.device_name.clone(),
+            });
+        }
+    }
+    Ok(())
+}
+
 impl GpuScene {
     /// Uploads `scene` as seen by `camera` with `aspect` (width / height), with each light's shadow-map
     /// parameters (`shadows[i]` for light `i`) and every shadow view-projection.
@@ -126,6 +188,7 @@ impl GpuScene {
         shadow_views: &[Mat4],
     ) -> RenderResult<Self> {
         scene.validate()?;
+        check_limits(ctx.capabilities(), SceneCounts::of(scene, shadow_views.len()))?;
         let (vertices, indices, meshes) = pack_meshes(&scene.meshes);
 
         let c = camera;
@@ -234,4 +297,50 @@ fn pack_meshes(meshes: &[Mesh]) -> (Vec<Vertex>, Vec<u32>, Vec<MeshRange>) {
         indices.extend_from_slice(&m.indices);
     }
     (vertices, indices, ranges)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn caps() -> Capabilities {
+        Capabilities {
+            device_name: "test device".into(),
+            max_storage_buffer_range: 128 << 20,
+            max_uniform_buffer_range: 1 << 16,
+            max_buffer_size: 1 << 30,
+            max_memory_allocation_size: 2 << 30,
+            ..Capabilities::default()
+        }
+    }
+
+    #[test]
+    fn every_bound_buffer_is_checked_against_its_limit() {
+        let max_objects = (128 << 20) / std::mem::size_of::<GpuObject>();
+        assert_eq!(max_objects, 932_067, "lavapipe's figure from the fuzzing report");
+        let ok = SceneCounts { objects: max_objects, lights: 1, shadow_views: 6, vertices: 3, indices: 3 };
+        check_limits(&caps(), ok).expect("at the limit");
+        let over_on = |caps: &Capabilities, counts: SceneCounts, limit: &str, text: &str| {
+            let err = check_limits(caps, counts).unwrap_err();
+            let message = err.to_string();
+            assert!(matches!(&err, RenderError::DeviceLimit { limit: l, .. } if l.name == limit), "{message}");
+            assert!(message.contains(text) && message.contains("on test device"), "{message}");
+        };
+        let over = |counts, limit: &str, text: &str| over_on(&caps(), counts, limit, text);
+        over(
+            SceneCounts { objects: 1_000_000, ..ok },
+            "maxStorageBufferRange",
+            "1000000 objects need 144000000 bytes (137.3 MiB) of object buffer (144 bytes each), but \
+             maxStorageBufferRange is 134217728 bytes (128 MiB)",
+        );
+        over(SceneCounts { lights: (128 << 20) / 80 + 1, ..ok }, "maxStorageBufferRange", "of light buffer");
+        over(SceneCounts { shadow_views: (128 << 20) / 64 + 1, ..ok }, "maxStorageBufferRange", "shadow-view buffer");
+        over(SceneCounts { vertices: (1 << 30) / 24 + 1, ..ok }, "maxBufferSize", "of vertex buffer");
+        let small_allocations = Capabilities { max_memory_allocation_size: 256 << 20, ..caps() };
+        let indices = SceneCounts { indices: (256 << 20) / 4 + 1, ..ok };
+        over_on(&small_allocations, indices, "maxMemoryAllocationSize", "of index buffer");
+        let tiny = Capabilities { max_uniform_buffer_range: 64, ..caps() };
+        let err = check_limits(&tiny, ok).unwrap_err();
+        assert!(err.to_string().contains("frame uniforms"), "{err}");
+    }
 }

@@ -11,6 +11,7 @@
 
 #![warn(missing_docs)]
 
+mod budget;
 pub mod diagnostics;
 mod error;
 mod forward;
@@ -26,6 +27,7 @@ pub mod shadow_volume;
 pub mod silhouette_map;
 mod timing;
 
+pub use budget::{ShadowStorage, DEFAULT_SHADOW_MAP_BUDGET};
 pub use diagnostics::{GBuffer, LightDiagnostics, PixelClass, SilhouetteMapImage};
 pub use error::{RenderError, RenderResult};
 pub use hybrid::{HybridSettings, MaskKind};

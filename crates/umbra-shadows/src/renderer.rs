@@ -18,13 +18,14 @@
 //!
 //! Every pass is a debug label with timestamps around it; the [`FrameReport`] lists them.
 
+use crate::budget::{self, ShadowStorage, DEFAULT_SHADOW_MAP_BUDGET};
 use crate::diagnostics::SilhouetteMapImage;
 use crate::diagnostics::{self, ClassReadback, DiagnosticTargets, GBuffer, LightDiagnostics, PixelClass};
 use crate::forward::{Forward, PassBounds};
-use crate::gbuffer::GBufferPass;
-use crate::gpu_scene::{self, GpuScene, GpuShadow};
+use crate::gbuffer::{self, GBufferPass};
+use crate::gpu_scene::{self, GpuScene, GpuShadow, SceneCounts};
 use crate::hybrid::cull;
-use crate::hybrid::pass::{HybridLight, HybridPass};
+use crate::hybrid::pass::{self as hybrid_pass, HybridLight, HybridPass};
 use crate::hybrid::{HybridSettings, MaskKind, DEPTH_BOUNDS_EPSILON};
 use crate::plan::{plan_frame, tally, CullReason, FramePlan, HybridReport, LightPlan, PlanInput, ShadowMapReport};
 use crate::plan::{CasterMode, ShadowVolumeReport, SilhouetteMapReport, SILHOUETTE_CUBE_UNSUPPORTED};
@@ -81,6 +82,13 @@ pub struct RendererDesc {
     /// see [`crate::plan`]). On by default; off records every pass of every light over every
     /// caster, the same image, for comparison (`--no-cull`).
     pub cull: bool,
+    /// The most bytes the shadow storage of one frame may take: every light's depth map (4
+    /// bytes a texel, six faces for a cube), silhouette map (8 bytes a texel) and, with
+    /// `diagnostics`, its readback. A frame whose lights need more is refused with
+    /// [`RenderError::ShadowBudget`] before any map is allocated (no fallback: lower the
+    /// resolutions or shadow fewer lights). Default [`DEFAULT_SHADOW_MAP_BUDGET`] (1 GiB: ten
+    /// point lights' 2048² cube maps); `u64::MAX` is unlimited.
+    pub shadow_map_budget_bytes: u64,
 }
 
 impl RendererDesc {
@@ -95,6 +103,7 @@ impl RendererDesc {
             diagnostics: false,
             gbuffer: false,
             cull: true,
+            shadow_map_budget_bytes: DEFAULT_SHADOW_MAP_BUDGET,
         }
     }
 }
@@ -196,28 +205,23 @@ impl MeshKey {
 }
 
 impl Renderer {
-    /// Creates the targets and pipelines.
+    /// Creates the targets and pipelines, after checking `desc`: the shadow-map settings
+    /// ([`ShadowMapSettings::validate`]) and the target size against every device limit of the
+    /// frame-sized images ([`RenderError::InvalidSize`] naming the limit).
     pub fn new(ctx: &Context, desc: RendererDesc) -> RenderResult<Self> {
         let caps = ctx.capabilities();
-        let max = caps.max_image_dimension_2d;
-        if desc.width == 0 || desc.height == 0 || desc.width > max || desc.height > max {
-            return Err(RenderError::InvalidSize {
-                width: desc.width,
-                height: desc.height,
-                why: format!("each side must be in 1..={max} on {}", caps.device_name),
-            });
-        }
+        desc.shadow_map.validate()?;
         let depth_format = caps.depth_stencil_format;
         if depth_format == vk::Format::UNDEFINED {
             return Err(ctx.unsupported("any depth/stencil attachment format").into());
         }
+        let mask = desc.hybrid.mask.unwrap_or(MaskKind::best_for(caps.depth_bounds));
+        if mask == MaskKind::DepthBounds && !caps.depth_bounds {
+            return Err(ctx.unsupported("the hybrid's depth-bounds computation mask (depthBounds)").into());
+        }
+        check_frame_size(ctx, &desc, depth_format, mask)?;
         let color = frame_target(ctx, "colour target", desc.width, desc.height)?;
-        let depth = Image::new(
-            ctx,
-            "depth/stencil target",
-            ImageDesc::new_2d(depth_format, desc.width, desc.height)
-                .usage(vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC),
-        )?;
+        let depth = Image::new(ctx, "depth/stencil target", depth_desc(depth_format, desc.width, desc.height))?;
         let readback =
             Buffer::new(ctx, "colour readback", BufferDesc::readback(4 * desc.width as u64 * desc.height as u64))?;
         let scene_set_layout = gpu_scene::scene_set_layout(ctx)?;
@@ -234,10 +238,6 @@ impl Renderer {
         }
         let shadow_volume = ShadowVolumePass::new(ctx, &layout, depth_format, &desc.shadow_volume, bounds)?;
         let silhouette_map = SilhouetteMapPass::new(ctx, &layout, COLOR_FORMAT, depth_format, &desc.shadow_map)?;
-        let mask = desc.hybrid.mask.unwrap_or(MaskKind::best_for(caps.depth_bounds));
-        if mask == MaskKind::DepthBounds && !caps.depth_bounds {
-            return Err(ctx.unsupported("the hybrid's depth-bounds computation mask (depthBounds)").into());
-        }
         let clamp = desc.shadow_volume.far_plane == FarPlane::DepthClamp;
         let hybrid = HybridPass::new(ctx, &layout, COLOR_FORMAT, depth_format, &desc.shadow_map, clamp)?;
         let diagnostic_targets = if desc.diagnostics {
@@ -305,8 +305,10 @@ impl Renderer {
     /// Renders one frame of `scene` and reads it back.
     pub fn render(&mut self, scene: &Scene) -> RenderResult<Frame> {
         let started = Instant::now();
-        // A typed error, before any GPU work, for non-finite or out-of-range input.
+        // A typed error, before any GPU work, for non-finite or out-of-range input, and for
+        // more objects or lights than the device's buffers can bind.
         scene.validate()?;
+        gpu_scene::check_limits(self.ctx.capabilities(), SceneCounts::of(scene, 0))?;
         let aspect = self.desc.width as f32 / self.desc.height as f32;
         let volume_settings = self.desc.shadow_volume;
         // Shadow volumes reach infinity: the frame uses P_inf unless depth clamp does the job.
@@ -354,8 +356,11 @@ impl Renderer {
         let mut edge_instances: Vec<EdgeInstance> = Vec::new();
         let hybrid_resolution = HybridSettings::default_resolution(self.desc.width, self.desc.height);
         let map_techniques = [Technique::ShadowMap, Technique::SilhouetteMap, Technique::Hybrid];
-        let map_lights = lights.iter_mut().filter(|l| map_techniques.iter().any(|&t| shadows(l, t)));
-        for plan in map_lights {
+        // First every light's views and map size, each checked against the device, and what
+        // they all take together against the budget; only then is anything allocated.
+        let mut resolutions = vec![0u32; scene.lights.len()];
+        let mut storage = Vec::new();
+        for plan in lights.iter_mut().filter(|l| map_techniques.iter().any(|&t| shadows(l, t))) {
             let light = &scene.lights[plan.light];
             let Some(mut views) = frustum::fit(light, scene, &boxes, camera) else {
                 plan.note = Some("no caster can shadow a visible receiver: no shadow map rendered".into());
@@ -380,6 +385,30 @@ impl Renderer {
                 Technique::Hybrid => self.desc.hybrid.resolution.unwrap_or(hybrid_resolution),
                 _ => settings.resolution,
             });
+            let mut bytes = self.shadow_map.check(&self.ctx, plan.light, resolution, views.kind)?;
+            if silhouette {
+                let map = self.silhouette_map.check(&self.ctx, plan.light, resolution)?;
+                // With diagnostics the map is also read back, as many bytes again.
+                bytes += if self.diagnostic_targets.is_some() { 2 * map } else { map };
+            }
+            let cube = views.kind == MapKind::Cube;
+            storage.push(ShadowStorage { light: plan.light, resolution, cube, silhouette, bytes });
+            resolutions[plan.light] = resolution;
+            fitted[plan.light] = Some(views);
+        }
+        budget::check(&storage, self.desc.shadow_map_budget_bytes)?;
+        let has_map: Vec<bool> = fitted.iter().map(Option::is_some).collect();
+        self.shadow_map.keep_only(&has_map);
+        let mut has_silhouette = vec![false; scene.lights.len()];
+        for s in &storage {
+            has_silhouette[s.light] = s.silhouette;
+        }
+        self.silhouette_map.keep_only(&has_silhouette);
+        for plan in lights.iter_mut() {
+            let Some(views) = &fitted[plan.light] else { continue };
+            let light = &scene.lights[plan.light];
+            let silhouette = has_silhouette[plan.light];
+            let resolution = resolutions[plan.light];
             self.shadow_map.prepare(&self.ctx, plan.light, resolution, views.kind)?;
             gpu_shadows[plan.light] = GpuShadow {
                 kind: match (views.kind, silhouette) {
@@ -423,7 +452,6 @@ impl Renderer {
                 bias_clamps[plan.light] = frustum::bias_clamp(views.views[0], resolution, texels);
             }
             shadow_views.extend_from_slice(&views.views);
-            fitted[plan.light] = Some(views);
         }
         let edge_buffer = vertex_buffer(&self.ctx, "silhouette edges", &edge_instances)?;
         // Shadow volumes: every caster's volume per light, built on the CPU (z-fail only for
@@ -999,8 +1027,58 @@ fn vertex_buffer<T: bytemuck::Pod>(ctx: &Context, name: &str, data: &[T]) -> Ren
 
 /// A frame-sized RGBA8 image rendered to and copied out (colour, overdraw, diagnostic views).
 fn frame_target(ctx: &Context, name: &str, width: u32, height: u32) -> RenderResult<Image> {
+    Ok(Image::new(ctx, name, frame_target_desc(width, height))?)
+}
+
+/// The description of [`frame_target`]'s images.
+fn frame_target_desc(width: u32, height: u32) -> ImageDesc {
     let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
-    Ok(Image::new(ctx, name, ImageDesc::new_2d(COLOR_FORMAT, width, height).usage(usage))?)
+    ImageDesc::new_2d(COLOR_FORMAT, width, height).usage(usage)
+}
+
+/// The frame's depth/stencil target, copied out for stencil diagnostics.
+fn depth_desc(format: vk::Format, width: u32, height: u32) -> ImageDesc {
+    let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
+    ImageDesc::new_2d(format, width, height).usage(usage)
+}
+
+/// Checks `desc`'s size against every limit of the frame-sized images the renderer may create
+/// (colour and depth targets, the hybrid's classes and masked depth, the G-buffer): a typed
+/// [`RenderError::InvalidSize`] naming the first limit broken, before anything is created.
+fn check_frame_size(ctx: &Context, desc: &RendererDesc, depth_format: vk::Format, mask: MaskKind) -> RenderResult<()> {
+    let (width, height) = (desc.width, desc.height);
+    if width == 0 || height == 0 {
+        return Err(RenderError::InvalidSize {
+            width,
+            height,
+            why: "each side must be at least 1".into(),
+            limit: None,
+        });
+    }
+    let (classes, masked_depth) = hybrid_pass::target_descs(depth_format, width, height);
+    let mut images = vec![
+        ("colour target", frame_target_desc(width, height)),
+        ("depth/stencil target", depth_desc(depth_format, width, height)),
+        ("hybrid silhouette classes", classes),
+    ];
+    if mask == MaskKind::DepthBounds {
+        images.push(("hybrid masked depth", masked_depth));
+    }
+    if desc.gbuffer {
+        images.push(("g-buffer", gbuffer::target_desc(width, height)));
+    }
+    for (name, image) in images {
+        if let Some((what, limit)) = ctx.image_limits(&image)?.broken_by(&image) {
+            let device = &ctx.capabilities().device_name;
+            return Err(RenderError::InvalidSize {
+                width,
+                height,
+                why: format!("the {name}'s {what} is over a device limit: {limit} on {device}"),
+                limit: Some(limit),
+            });
+        }
+    }
+    Ok(())
 }
 
 /// Blocker culling's queries in one frame: a box per (hybrid light, caster index).

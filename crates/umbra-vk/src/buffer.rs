@@ -1,9 +1,10 @@
 //! Buffers: a `Copy` description, an RAII buffer, upload and readback.
 
 use crate::error::{CallContext, VkError, VkResult};
-use crate::{Context, Memory};
+use crate::memory::{self, Memory};
+use crate::{human_bytes, Context, Limit};
 use ash::vk;
-use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use gpu_allocator::vulkan::Allocation;
 
 /// What a buffer is: size, usage and memory.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -56,28 +57,26 @@ impl std::fmt::Debug for Buffer {
 }
 
 impl Buffer {
-    /// Creates a named buffer.
+    /// Creates a named buffer (at most `maxBufferSize` bytes).
     pub fn new(ctx: &Context, name: &str, desc: BufferDesc) -> VkResult<Self> {
         if desc.size == 0 {
             return Err(VkError::InvalidDesc { what: "buffer", why: format!("{name}: size is zero") });
         }
+        let max = ctx.capabilities().max_buffer_size;
+        if desc.size > max {
+            return Err(ctx.over_limit(
+                format!("buffer {name:?} needs {}", human_bytes(desc.size)),
+                Limit::bytes("maxBufferSize", max),
+            ));
+        }
         let info =
             vk::BufferCreateInfo::default().size(desc.size).usage(desc.usage).sharing_mode(vk::SharingMode::EXCLUSIVE);
         let device = &ctx.inner.device;
-        // SAFETY: valid create info; the buffer is destroyed in `Drop`.
+        // SAFETY: valid create info (size checked above); the buffer is destroyed in `Drop`.
         let raw = unsafe { device.create_buffer(&info, None) }.call("vkCreateBuffer")?;
         // SAFETY: `raw` was just created from `device`.
         let requirements = unsafe { device.get_buffer_memory_requirements(raw) };
-        let allocation = ctx.allocator().and_then(|mut a| {
-            Ok(a.allocate(&AllocationCreateDesc {
-                name,
-                requirements,
-                location: desc.memory.location(),
-                linear: true,
-                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-            })?)
-        });
-        let allocation = match allocation {
+        let allocation = match memory::allocate(ctx, name, requirements, desc.memory, true) {
             Ok(a) => a,
             Err(e) => {
                 // SAFETY: unused, unbound buffer.

@@ -11,8 +11,9 @@ pub const DEPTH_STENCIL_PREFERENCE: [vk::Format; 3] =
 ///
 /// A feature is `true` only when the device supports it **and** it is enabled on the logical
 /// device (umbra enables every optional feature it finds; a bring-your-own device reports what
-/// its owner enabled).
-#[derive(Clone, Debug, Serialize)]
+/// its owner enabled). `Default` is a device with nothing: every feature off, every limit 0
+/// (for tests of code that reads capabilities).
+#[derive(Clone, Debug, Default, Serialize)]
 pub struct Capabilities {
     /// Device name as reported by the driver (`llvmpipe (LLVM 15.0.6, 256 bits)`, …).
     pub device_name: String,
@@ -58,6 +59,24 @@ pub struct Capabilities {
     pub max_image_dimension_2d: u32,
     /// `maxImageDimensionCube`.
     pub max_image_dimension_cube: u32,
+    /// `maxImageArrayLayers`.
+    pub max_image_array_layers: u32,
+    /// `maxFramebufferWidth`: the widest attachment (and rendering area).
+    pub max_framebuffer_width: u32,
+    /// `maxFramebufferHeight`: the tallest attachment (and rendering area).
+    pub max_framebuffer_height: u32,
+    /// `maxViewportDimensions`: umbra's viewport covers the whole attachment, so attachments
+    /// are bounded by it too.
+    pub max_viewport_dimensions: [u32; 2],
+    /// `maxStorageBufferRange` in bytes: the most a storage-buffer descriptor can bind.
+    pub max_storage_buffer_range: u32,
+    /// `maxUniformBufferRange` in bytes: the most a uniform-buffer descriptor can bind.
+    pub max_uniform_buffer_range: u32,
+    /// `maxBufferSize` (`VkPhysicalDeviceMaintenance4Properties`) in bytes: the largest buffer.
+    pub max_buffer_size: u64,
+    /// `maxMemoryAllocationSize` (`VkPhysicalDeviceMaintenance3Properties`) in bytes: the
+    /// largest single allocation (one buffer's or image's memory).
+    pub max_memory_allocation_size: u64,
     /// `maxPushConstantsSize` in bytes.
     pub max_push_constants_size: u32,
     /// `subPixelPrecisionBits`: vertices are snapped to 1/2^bits of a pixel before
@@ -73,6 +92,8 @@ fn ser_format<S: serde::Serializer>(f: &vk::Format, s: S) -> Result<S::Ok, S::Er
 pub(crate) struct Probe<'a> {
     pub properties: &'a vk::PhysicalDeviceProperties,
     pub driver: &'a vk::PhysicalDeviceDriverProperties<'a>,
+    pub maintenance3: &'a vk::PhysicalDeviceMaintenance3Properties<'a>,
+    pub maintenance4: &'a vk::PhysicalDeviceMaintenance4Properties<'a>,
     pub enabled: &'a vk::PhysicalDeviceFeatures,
     pub queue_family: &'a vk::QueueFamilyProperties,
     pub conservative_rasterization: bool,
@@ -122,6 +143,14 @@ impl Capabilities {
             depth32_sampled: p.depth32_sampled,
             max_image_dimension_2d: limits.max_image_dimension2_d,
             max_image_dimension_cube: limits.max_image_dimension_cube,
+            max_image_array_layers: limits.max_image_array_layers,
+            max_framebuffer_width: limits.max_framebuffer_width,
+            max_framebuffer_height: limits.max_framebuffer_height,
+            max_viewport_dimensions: limits.max_viewport_dimensions,
+            max_storage_buffer_range: limits.max_storage_buffer_range,
+            max_uniform_buffer_range: limits.max_uniform_buffer_range,
+            max_buffer_size: p.maintenance4.max_buffer_size,
+            max_memory_allocation_size: p.maintenance3.max_memory_allocation_size,
             max_push_constants_size: limits.max_push_constants_size,
             sub_pixel_precision_bits: limits.sub_pixel_precision_bits,
         }

@@ -210,9 +210,13 @@ impl Context {
         });
         let allocator = match allocator {
             Ok(al) => al,
-            Err(e) => {
+            Err(source) => {
                 a.teardown();
-                return Err(e.into());
+                return Err(VkError::Allocation {
+                    name: "umbra-vk's allocator (creating it)".into(),
+                    bytes: 0,
+                    source,
+                });
             }
         };
         let pool_info = vk::CommandPoolCreateInfo::default()
@@ -556,8 +560,13 @@ fn probe(
     unsafe {
         let properties = instance.get_physical_device_properties(pd);
         let mut driver = vk::PhysicalDeviceDriverProperties::default();
+        let mut maintenance3 = vk::PhysicalDeviceMaintenance3Properties::default();
+        let mut maintenance4 = vk::PhysicalDeviceMaintenance4Properties::default();
         {
-            let mut p2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver);
+            let mut p2 = vk::PhysicalDeviceProperties2::default()
+                .push_next(&mut driver)
+                .push_next(&mut maintenance3)
+                .push_next(&mut maintenance4);
             instance.get_physical_device_properties2(pd, &mut p2);
         }
         let families = instance.get_physical_device_queue_family_properties(pd);
@@ -576,6 +585,8 @@ fn probe(
         Capabilities::from_parts(Probe {
             properties: &properties,
             driver: &driver,
+            maintenance3: &maintenance3,
+            maintenance4: &maintenance4,
             enabled,
             queue_family: &queue_family,
             conservative_rasterization: conservative,

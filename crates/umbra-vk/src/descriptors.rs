@@ -1,7 +1,7 @@
 //! Descriptor set layouts and sets (each set owns a small pool sized for its layout).
 
 use crate::error::{CallContext, VkResult};
-use crate::{Buffer, Context};
+use crate::{human_bytes, Buffer, Context, Limit};
 use ash::vk;
 
 /// One binding of a set layout.
@@ -78,7 +78,25 @@ pub struct DescriptorSet {
 
 impl DescriptorSet {
     /// Allocates a set of `layout` and writes `resources[i]` to the layout's `i`-th binding.
+    ///
+    /// Buffers are bound whole: one larger than `maxStorageBufferRange` (storage) or
+    /// `maxUniformBufferRange` (uniform) is a typed [`crate::VkError::DeviceLimit`].
     pub fn new(ctx: &Context, name: &str, layout: &DescriptorSetLayout, resources: &[Resource<'_>]) -> VkResult<Self> {
+        for (b, r) in layout.bindings.iter().zip(resources) {
+            if let (Resource::Buffer(buffer), Some(limit)) = (r, range_limit(ctx, b.ty)) {
+                if buffer.desc.size > limit.value {
+                    return Err(ctx.over_limit(
+                        format!(
+                            "descriptor set {name:?}, binding {}: {} of {:?}",
+                            b.binding,
+                            human_bytes(buffer.desc.size),
+                            b.ty
+                        ),
+                        limit,
+                    ));
+                }
+            }
+        }
         let device = &ctx.inner.device;
         let sizes: Vec<_> =
             layout.bindings.iter().map(|b| vk::DescriptorPoolSize { ty: b.ty, descriptor_count: 1 }).collect();
@@ -132,6 +150,20 @@ impl DescriptorSet {
         ctx.set_name(raw, name);
         ctx.set_name(pool, &format!("{name} pool"));
         Ok(set)
+    }
+}
+
+/// The most a descriptor of type `ty` can bind, for buffer descriptors.
+fn range_limit(ctx: &Context, ty: vk::DescriptorType) -> Option<Limit> {
+    let caps = ctx.capabilities();
+    match ty {
+        vk::DescriptorType::STORAGE_BUFFER => {
+            Some(Limit::bytes("maxStorageBufferRange", caps.max_storage_buffer_range))
+        }
+        vk::DescriptorType::UNIFORM_BUFFER => {
+            Some(Limit::bytes("maxUniformBufferRange", caps.max_uniform_buffer_range))
+        }
+        _ => None,
     }
 }
 

@@ -43,9 +43,27 @@ pub enum VkError {
         /// Why it is invalid.
         why: String,
     },
-    /// Device memory could not be allocated.
-    #[error("memory allocation failed: {0}")]
-    Allocation(#[from] gpu_allocator::AllocationError),
+    /// A resource needs more than a device limit allows (its size, checked before it is
+    /// created).
+    #[error("{what}, but {limit} on {device}")]
+    DeviceLimit {
+        /// What was asked for and by what (`image "shadow map light 0": width 8256`, …).
+        what: String,
+        /// The limit it breaks, with its value.
+        limit: crate::Limit,
+        /// The device name.
+        device: String,
+    },
+    /// Device memory for a resource could not be allocated.
+    #[error("allocating {} for {name:?} failed: {source}", crate::human_bytes(*bytes))]
+    Allocation {
+        /// The debug name of the buffer or image the memory was for.
+        name: String,
+        /// The bytes asked for.
+        bytes: u64,
+        /// What the allocator said.
+        source: gpu_allocator::AllocationError,
+    },
     /// A window's raw handles could not be had (the window is gone or unsupported).
     #[error("window handle: {0}")]
     Window(String),

@@ -1,9 +1,10 @@
 //! Images: a `Copy` description, an RAII image with its default view, and layout states.
 
 use crate::error::{CallContext, VkError, VkResult};
-use crate::{Context, Memory};
+use crate::memory::{self, Memory};
+use crate::Context;
 use ash::vk;
-use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use gpu_allocator::vulkan::Allocation;
 
 /// What an image is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -141,22 +142,22 @@ impl std::fmt::Debug for Image {
 }
 
 impl Image {
-    /// Creates a named device-local image and its default view, checking the device limits.
+    /// Creates a named device-local image and its default view, checking its extent against
+    /// the device limits first ([`Context::image_limits`]: a typed [`VkError::DeviceLimit`]
+    /// naming the limit it breaks).
     pub fn new(ctx: &Context, name: &str, desc: ImageDesc) -> VkResult<Self> {
-        let caps = ctx.capabilities();
-        let max = if desc.cube { caps.max_image_dimension_cube } else { caps.max_image_dimension_2d };
         let invalid = |why: String| VkError::InvalidDesc { what: "image", why: format!("{name}: {why}") };
         if desc.width == 0 || desc.height == 0 || desc.layers == 0 {
             return Err(invalid(format!("zero extent {}x{}x{}", desc.width, desc.height, desc.layers)));
-        }
-        if desc.width > max || desc.height > max {
-            return Err(invalid(format!("{}x{} exceeds the device limit {max}", desc.width, desc.height)));
         }
         if desc.cube && (desc.width != desc.height || desc.layers % 6 != 0) {
             return Err(invalid(format!(
                 "cube faces must be square with 6n layers, got {}x{}x{}",
                 desc.width, desc.height, desc.layers
             )));
+        }
+        if let Some((what, limit)) = ctx.image_limits(&desc)?.broken_by(&desc) {
+            return Err(ctx.over_limit(format!("image {name:?} ({:?}): {what}", desc.format), limit));
         }
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
@@ -175,15 +176,7 @@ impl Image {
         let raw = unsafe { device.create_image(&info, None) }.call("vkCreateImage")?;
         // SAFETY: `raw` was just created from `device`.
         let requirements = unsafe { device.get_image_memory_requirements(raw) };
-        let allocation = ctx.allocator().and_then(|mut a| {
-            Ok(a.allocate(&AllocationCreateDesc {
-                name,
-                requirements,
-                location: Memory::GpuOnly.location(),
-                linear: false,
-                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-            })?)
-        });
+        let allocation = memory::allocate(ctx, name, requirements, Memory::GpuOnly, false);
         let mut image = Image { raw, view: vk::ImageView::null(), desc, allocation: None, ctx: ctx.clone() };
         image.allocation = Some(allocation?);
         if let Some(a) = &image.allocation {

@@ -33,6 +33,7 @@ mod context;
 mod descriptors;
 mod error;
 mod image;
+mod limits;
 mod memory;
 mod pipeline;
 mod query;
@@ -52,6 +53,7 @@ pub use context::{Context, ContextOptions, ExternalDevice, VALIDATION_ENV};
 pub use descriptors::{Binding, DescriptorSet, DescriptorSetLayout, Resource};
 pub use error::{VkError, VkResult};
 pub use image::{format_aspect, texel_size, Image, ImageDesc, ImageState, ImageView};
+pub use limits::{element_bytes, human_bytes, ImageLimits, Limit};
 pub use memory::Memory;
 pub use pipeline::{
     Blend, ColorTarget, DepthState, GraphicsPipeline, GraphicsPipelineDesc, PipelineLayout, StencilFace,

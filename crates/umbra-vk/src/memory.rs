@@ -1,5 +1,9 @@
-//! Where a resource's memory lives.
+//! Where a resource's memory lives, and allocating it.
 
+use crate::error::{VkError, VkResult};
+use crate::{human_bytes, Context, Limit};
+use ash::vk;
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 use gpu_allocator::MemoryLocation;
 
 /// Where a buffer's or image's memory lives.
@@ -21,4 +25,34 @@ impl Memory {
             Memory::GpuToCpu => MemoryLocation::GpuToCpu,
         }
     }
+}
+
+/// Allocates memory for the buffer or image `name` (`linear`: a buffer or linear image),
+/// refusing more than `maxMemoryAllocationSize` up front; an allocator error names `name`.
+pub(crate) fn allocate(
+    ctx: &Context,
+    name: &str,
+    requirements: vk::MemoryRequirements,
+    memory: Memory,
+    linear: bool,
+) -> VkResult<Allocation> {
+    let max = ctx.capabilities().max_memory_allocation_size;
+    if requirements.size > max {
+        return Err(ctx.over_limit(
+            format!("{name:?} needs {} of memory in one allocation", human_bytes(requirements.size)),
+            Limit::bytes("maxMemoryAllocationSize", max),
+        ));
+    }
+    let desc = AllocationCreateDesc {
+        name,
+        requirements,
+        location: memory.location(),
+        linear,
+        allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+    };
+    ctx.allocator()?.allocate(&desc).map_err(|source| VkError::Allocation {
+        name: name.to_owned(),
+        bytes: requirements.size,
+        source,
+    })
 }

@@ -27,8 +27,8 @@ pub struct PosterArgs {
     /// Image size per technique, WIDTHxHEIGHT.
     #[arg(long, default_value = "512x384", value_parser = crate::parse_size)]
     pub size: (u32, u32),
-    /// Shadow-map size of the shadow map, the silhouette map and the hybrid.
-    #[arg(long, default_value_t = 1024)]
+    /// Shadow-map size of the shadow map, the silhouette map and the hybrid (at least 64).
+    #[arg(long, default_value_t = 1024, value_parser = crate::sm_size_parser())]
     pub sm_size: u32,
     /// The shadow map's filter: nearest, pcf2x2, pcf3x3, pcf5x5.
     #[arg(long, default_value = "pcf2x2")]
@@ -37,11 +37,11 @@ pub struct PosterArgs {
     /// the stencil fallback elsewhere).
     #[arg(long)]
     pub mask: Option<MaskKind>,
-    /// Timed frames per technique.
-    #[arg(long, default_value_t = 30)]
+    /// Timed frames per technique (1 to 10000).
+    #[arg(long, default_value_t = 30, value_parser = crate::frames_parser())]
     pub frames: usize,
-    /// Frames rendered and discarded first.
-    #[arg(long, default_value_t = 2)]
+    /// Frames rendered and discarded first (0 to 1000).
+    #[arg(long, default_value_t = 2, value_parser = crate::warmup_parser())]
     pub warmup: usize,
     /// Output folder: `poster.png`, `poster.json`, `images/*-error.png`.
     #[arg(long, default_value = "out")]

@@ -29,6 +29,18 @@ struct Targets {
     masked_depth: Option<Image>,
 }
 
+/// The frame-sized images of the hybrid for a `width` × `height` frame: the silhouette classes
+/// and the masked depth copy (in `depth_format`).
+pub(crate) fn target_descs(depth_format: vk::Format, width: u32, height: u32) -> (ImageDesc, ImageDesc) {
+    let usage =
+        vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC;
+    let classes = ImageDesc::new_2d(crate::COLOR_FORMAT, width, height).usage(usage);
+    let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
+        | vk::ImageUsageFlags::TRANSFER_DST
+        | vk::ImageUsageFlags::TRANSFER_SRC;
+    (classes, ImageDesc::new_2d(depth_format, width, height).usage(usage))
+}
+
 /// Pipelines and targets of the hybrid technique.
 pub(crate) struct HybridPass {
     classify: GraphicsPipeline,
@@ -202,24 +214,11 @@ impl HybridPass {
         if fits {
             return Ok(());
         }
-        let usage =
-            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC;
-        let classes = Image::new(
-            ctx,
-            "hybrid silhouette classes",
-            ImageDesc::new_2d(crate::COLOR_FORMAT, width, height).usage(usage),
-        )?;
-        let masked_depth = if masked_depth {
-            let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
-                | vk::ImageUsageFlags::TRANSFER_DST
-                | vk::ImageUsageFlags::TRANSFER_SRC;
-            Some(Image::new(
-                ctx,
-                "hybrid masked depth",
-                ImageDesc::new_2d(self.depth_format, width, height).usage(usage),
-            )?)
-        } else {
-            None
+        let (classes, masked) = target_descs(self.depth_format, width, height);
+        let classes = Image::new(ctx, "hybrid silhouette classes", classes)?;
+        let masked_depth = match masked_depth {
+            true => Some(Image::new(ctx, "hybrid masked depth", masked)?),
+            false => None,
         };
         self.targets = Some(Targets { classes, masked_depth });
         Ok(())

@@ -16,6 +16,18 @@ use umbra_vk::{
 /// Shadow maps are single-channel 32-bit float depth.
 pub(crate) const FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
+/// Bytes per texel of [`FORMAT`].
+const MAP_TEXEL_BYTES: u64 = 4;
+
+/// The image of a `resolution` map of `kind`: a depth attachment that is sampled.
+fn map_desc(resolution: u32, kind: MapKind) -> ImageDesc {
+    let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
+    match kind {
+        MapKind::Single => ImageDesc::new_2d(FORMAT, resolution, resolution).usage(usage),
+        MapKind::Cube => ImageDesc::new_cube(FORMAT, resolution).usage(usage),
+    }
+}
+
 /// One light's shadow map: the image and, for cube maps, a view per face to render into.
 pub(crate) struct ShadowTarget {
     image: Image,
@@ -115,25 +127,34 @@ impl ShadowMapPass {
         &self.settings
     }
 
-    /// Makes sure light `light` has a map of `resolution` and `kind`, (re)creating it if not.
-    pub fn prepare(&mut self, ctx: &Context, light: usize, resolution: u32, kind: MapKind) -> RenderResult<()> {
-        let caps = ctx.capabilities();
-        let max = match kind {
-            MapKind::Single => caps.max_image_dimension_2d,
-            MapKind::Cube => caps.max_image_dimension_cube,
-        };
-        if !(ShadowMapSettings::MIN_RESOLUTION..=max).contains(&resolution) {
+    /// Checks that light `light` can have a `resolution` map of `kind` on this device: at
+    /// least [`ShadowMapSettings::MIN_RESOLUTION`] and within every limit of a sampled D32 depth
+    /// attachment ([`Context::image_limits`]); returns the bytes its texels take.
+    pub fn check(&self, ctx: &Context, light: usize, resolution: u32, kind: MapKind) -> RenderResult<u64> {
+        let desc = map_desc(resolution.max(1), kind);
+        let limits = ctx.image_limits(&desc)?;
+        // The largest side every limit takes (texel bytes included), and the limit that sets it.
+        let side = if limits.height.value < limits.width.value { limits.height } else { limits.width };
+        let by_bytes = (limits.bytes.value / (u64::from(desc.layers) * MAP_TEXEL_BYTES)).isqrt();
+        let (max, binding) = if by_bytes < side.value { (by_bytes, limits.bytes) } else { (side.value, side) };
+        let min = ShadowMapSettings::MIN_RESOLUTION;
+        let over = u64::from(resolution) > max || limits.broken_by(&desc).is_some();
+        if resolution < min || over {
+            let device = &ctx.capabilities().device_name;
             return Err(RenderError::InvalidShadowMap {
                 light,
                 resolution,
-                why: format!(
-                    "must be {}..={max} texels per side on {} ({})",
-                    ShadowMapSettings::MIN_RESOLUTION,
-                    caps.device_name,
-                    if kind == MapKind::Cube { "maxImageDimensionCube" } else { "maxImageDimension2D" }
-                ),
+                why: format!("must be {min}..={max} texels per side on {device}: {binding}"),
+                limit: over.then_some(binding),
             });
         }
+        Ok(crate::budget::image_bytes(resolution, desc.layers, MAP_TEXEL_BYTES))
+    }
+
+    /// Makes sure light `light` has a map of `resolution` and `kind`, (re)creating it if not
+    /// (after [`Self::check`]).
+    pub fn prepare(&mut self, ctx: &Context, light: usize, resolution: u32, kind: MapKind) -> RenderResult<()> {
+        self.check(ctx, light, resolution, kind)?;
         if self.targets.len() <= light {
             self.targets.resize_with(light + 1, || None);
         }
@@ -144,22 +165,22 @@ impl ShadowMapPass {
             return Ok(());
         }
         self.targets[light] = None;
-        let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
         let name = format!("shadow map light {light}");
-        let target = match kind {
-            MapKind::Single => ShadowTarget {
-                image: Image::new(ctx, &name, ImageDesc::new_2d(FORMAT, resolution, resolution).usage(usage))?,
-                faces: Vec::new(),
-            },
+        let image = Image::new(ctx, &name, map_desc(resolution, kind))?;
+        let faces = match kind {
+            MapKind::Single => Vec::new(),
             MapKind::Cube => {
-                let image = Image::new(ctx, &name, ImageDesc::new_cube(FORMAT, resolution).usage(usage))?;
-                let faces =
-                    (0..6).map(|f| image.layer_view(f, &format!("{name} face {f}"))).collect::<Result<_, _>>()?;
-                ShadowTarget { image, faces }
+                (0..6).map(|f| image.layer_view(f, &format!("{name} face {f}"))).collect::<Result<_, _>>()?
             }
         };
-        self.targets[light] = Some(target);
+        self.targets[light] = Some(ShadowTarget { image, faces });
         Ok(())
+    }
+
+    /// Frees the maps of every light for which `keep` is false (or beyond it): a frame holds
+    /// only the maps it uses.
+    pub fn keep_only(&mut self, keep: &[bool]) {
+        crate::budget::release_unused(&mut self.targets, keep);
     }
 
     /// Records the depth pass of light `light` (prepared with [`ShadowMapPass::prepare`]):
@@ -256,6 +277,7 @@ impl ShadowMapPass {
             light,
             resolution: 0,
             why: "recorded before `prepare`".into(),
+            limit: None,
         })
     }
 }

@@ -1,5 +1,6 @@
 //! Shadow-map settings: resolution, lookup filter, bias, out-of-frustum policy.
 
+use crate::{RenderError, RenderResult};
 use serde::{Deserialize, Serialize};
 
 /// How the lighting pass compares against the shadow map.
@@ -80,6 +81,13 @@ pub struct DepthBias {
 impl DepthBias {
     /// The default limit of silhouette maps' bias, in texel widths.
     pub const SILHOUETTE_CLAMP_TEXELS: f32 = 4.0;
+    /// Largest accepted `constant` (units of the depth format's resolution): 10⁵ units already
+    /// push a D24 depth by 0.6 % of the depth range, far past any acne.
+    pub const MAX_CONSTANT: f32 = 1e5;
+    /// Largest accepted `slope` (texels of depth slope): typical values are 1 to 10.
+    pub const MAX_SLOPE: f32 = 100.0;
+    /// Largest accepted `clamp_texels`.
+    pub const MAX_CLAMP_TEXELS: f32 = 1e4;
 }
 
 /// How a light's shadow map is made and read.
@@ -114,14 +122,81 @@ impl ShadowMapSettings {
         outside_lit: true,
     };
 
+    /// Largest accepted `normal_offset`, in world units (a lookup moved further than this
+    /// leaves any scene umbra ships; scale the scene instead).
+    pub const MAX_NORMAL_OFFSET: f32 = 1e4;
+
+    /// Checks the values the renderer cannot render sensibly: a bias or normal offset that is
+    /// not finite, negative, or beyond its `MAX_*` (every shadow would vanish or every surface
+    /// would be in shadow). `resolution` is checked per light against the device when its map
+    /// is made. `Renderer::new` calls this; a typed [`RenderError::InvalidSetting`] names the
+    /// field and the accepted range.
+    pub fn validate(&self) -> RenderResult<()> {
+        let b = &self.bias;
+        check_range("shadow_map.bias.constant", b.constant, DepthBias::MAX_CONSTANT)?;
+        check_range("shadow_map.bias.slope", b.slope, DepthBias::MAX_SLOPE)?;
+        if let Some(t) = b.clamp_texels {
+            check_range("shadow_map.bias.clamp_texels", t, DepthBias::MAX_CLAMP_TEXELS)?;
+        }
+        check_range("shadow_map.normal_offset", self.normal_offset, Self::MAX_NORMAL_OFFSET)
+    }
+
     /// The slope factor actually set: `bias.slope` plus the filter's radius.
     pub fn effective_slope(&self) -> f32 {
         self.bias.slope + self.filter.radius() as f32
     }
 }
 
+/// `value` must be finite and in `0..=max`.
+fn check_range(field: &'static str, value: f32, max: f32) -> RenderResult<()> {
+    if value.is_finite() && (0.0..=max).contains(&value) {
+        return Ok(());
+    }
+    Err(RenderError::InvalidSetting {
+        field,
+        value: format!("{value:?}"),
+        accepted: format!("a finite number in 0..={max}"),
+    })
+}
+
 impl Default for ShadowMapSettings {
     fn default() -> Self {
         Self::DEFAULT
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn non_finite_negative_and_absurd_values_are_refused_by_name() {
+        assert!(ShadowMapSettings::DEFAULT.validate().is_ok());
+        let with_bias = |constant, slope| ShadowMapSettings {
+            bias: DepthBias { constant, slope, clamp_texels: None },
+            ..ShadowMapSettings::DEFAULT
+        };
+        let cases = [
+            (with_bias(f32::NAN, 1.0), "shadow_map.bias.constant"),
+            (with_bias(f32::INFINITY, 1.0), "shadow_map.bias.constant"),
+            (with_bias(-1.0, 1.0), "shadow_map.bias.constant"),
+            (with_bias(1.0, f32::NEG_INFINITY), "shadow_map.bias.slope"),
+            (with_bias(1.0, 1e30), "shadow_map.bias.slope"),
+            (ShadowMapSettings { normal_offset: f32::NAN, ..ShadowMapSettings::DEFAULT }, "shadow_map.normal_offset"),
+            (ShadowMapSettings { normal_offset: 1e30, ..ShadowMapSettings::DEFAULT }, "shadow_map.normal_offset"),
+            (
+                ShadowMapSettings {
+                    bias: DepthBias { clamp_texels: Some(f32::NAN), ..ShadowMapSettings::DEFAULT.bias },
+                    ..ShadowMapSettings::DEFAULT
+                },
+                "shadow_map.bias.clamp_texels",
+            ),
+        ];
+        for (settings, name) in cases {
+            let err = settings.validate().unwrap_err();
+            assert!(matches!(err, RenderError::InvalidSetting { field, .. } if field == name), "{err}");
+            assert!(err.to_string().contains("a finite number in 0..="), "{err}");
+        }
+        assert!(with_bias(DepthBias::MAX_CONSTANT, DepthBias::MAX_SLOPE).validate().is_ok());
     }
 }

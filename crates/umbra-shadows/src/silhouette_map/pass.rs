@@ -18,6 +18,13 @@ use umbra_vk::{
 /// Texel-local silhouette points, two floats per texel.
 pub(crate) const FORMAT: vk::Format = vk::Format::R32G32_SFLOAT;
 
+/// A `resolution`² silhouette map: rendered to, sampled, and copied out for diagnostics.
+fn map_desc(resolution: u32) -> ImageDesc {
+    let usage =
+        vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC;
+    ImageDesc::new_2d(FORMAT, resolution, resolution).usage(usage)
+}
+
 /// Vertices of one edge's quad: two triangles (`edges.vert`).
 const VERTICES_PER_EDGE: u32 = 6;
 
@@ -82,19 +89,39 @@ impl SilhouetteMapPass {
         Ok(Self { points, diagnostics, placeholder, targets: Vec::new() })
     }
 
-    /// Makes sure light `light` has a `resolution`² silhouette map.
+    /// Checks that light `light` can have a `resolution`² silhouette map on this device (every
+    /// limit of an RG32F attachment, [`Context::image_limits`]); returns the bytes it takes.
+    pub fn check(&self, ctx: &Context, light: usize, resolution: u32) -> RenderResult<u64> {
+        let desc = map_desc(resolution);
+        if let Some((_, limit)) = ctx.image_limits(&desc)?.broken_by(&desc) {
+            let device = &ctx.capabilities().device_name;
+            return Err(RenderError::InvalidShadowMap {
+                light,
+                resolution,
+                why: format!("its silhouette map ({FORMAT:?}) must fit {limit} on {device}"),
+                limit: Some(limit),
+            });
+        }
+        Ok(crate::budget::image_bytes(resolution, 1, 8))
+    }
+
+    /// Makes sure light `light` has a `resolution`² silhouette map (after [`Self::check`]).
     pub fn prepare(&mut self, ctx: &Context, light: usize, resolution: u32) -> RenderResult<()> {
+        self.check(ctx, light, resolution)?;
         if self.targets.len() <= light {
             self.targets.resize_with(light + 1, || None);
         }
         if self.targets[light].as_ref().is_some_and(|t| t.desc.width == resolution) {
             return Ok(());
         }
-        let usage =
-            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC;
-        let desc = ImageDesc::new_2d(FORMAT, resolution, resolution).usage(usage);
-        self.targets[light] = Some(Image::new(ctx, &format!("silhouette map light {light}"), desc)?);
+        self.targets[light] = None;
+        self.targets[light] = Some(Image::new(ctx, &format!("silhouette map light {light}"), map_desc(resolution))?);
         Ok(())
+    }
+
+    /// Frees the silhouette maps of every light for which `keep` is false (or beyond it).
+    pub fn keep_only(&mut self, keep: &[bool]) {
+        crate::budget::release_unused(&mut self.targets, keep);
     }
 
     /// Light `light`'s silhouette map (after [`Self::prepare`]), or the 1×1 placeholder.
@@ -121,6 +148,7 @@ impl SilhouetteMapPass {
             light,
             resolution: 0,
             why: "silhouette map recorded before `prepare`".into(),
+            limit: None,
         })?;
         rec.transition(&[(target, ImageState::Undefined, ImageState::ColorAttachment)]);
         let color = [ColorAttachment { image: target, clear: Some(default_clear()) }];

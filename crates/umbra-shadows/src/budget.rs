@@ -1,0 +1,89 @@
+//! The shadow-map memory budget: what every light's shadow storage needs in one frame, summed
+//! and compared with `RendererDesc::shadow_map_budget_bytes` before any of it is allocated.
+
+use crate::{RenderError, RenderResult};
+use serde::Serialize;
+
+/// The default budget: 1 GiB, ten 2048² point-light cube maps or one 16384² map.
+pub const DEFAULT_SHADOW_MAP_BUDGET: u64 = 1 << 30;
+
+/// What one light's shadow storage takes in a frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct ShadowStorage {
+    /// Index of the light.
+    pub light: usize,
+    /// Texels per side of its maps.
+    pub resolution: u32,
+    /// Whether its depth map is a cube (six faces).
+    pub cube: bool,
+    /// Whether it also has a silhouette map (and, with diagnostics, its readback).
+    pub silhouette: bool,
+    /// Bytes of its depth map, silhouette map and silhouette-map readback.
+    pub bytes: u64,
+}
+
+impl std::fmt::Display for ShadowStorage {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let faces = if self.cube { "6 x " } else { "" };
+        let silhouette = if self.silhouette { " + silhouette map" } else { "" };
+        let bytes = umbra_vk::human_bytes(self.bytes);
+        write!(f, "light {}: {faces}{}²{silhouette} = {bytes}", self.light, self.resolution)
+    }
+}
+
+/// Texel bytes of a `resolution`² image with `layers` layers of `texel` bytes each.
+pub(crate) fn image_bytes(resolution: u32, layers: u32, texel: u64) -> u64 {
+    u64::from(resolution).saturating_mul(u64::from(resolution)).saturating_mul(u64::from(layers)).saturating_mul(texel)
+}
+
+/// A typed [`RenderError::ShadowBudget`] when `needs` sum to more than `budget` bytes.
+pub(crate) fn check(needs: &[ShadowStorage], budget: u64) -> RenderResult<()> {
+    let bytes = needs.iter().fold(0u64, |sum, n| sum.saturating_add(n.bytes));
+    if bytes > budget {
+        return Err(RenderError::ShadowBudget { lights: needs.to_vec(), bytes, budget });
+    }
+    Ok(())
+}
+
+/// Drops every per-light target whose light `keep` does not mark (lights beyond `keep` too).
+pub(crate) fn release_unused<T>(targets: &mut Vec<Option<T>>, keep: &[bool]) {
+    targets.truncate(keep.len());
+    for (target, &kept) in targets.iter_mut().zip(keep) {
+        if !kept {
+            *target = None;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cube(light: usize) -> ShadowStorage {
+        ShadowStorage { light, resolution: 2048, cube: true, silhouette: false, bytes: image_bytes(2048, 6, 4) }
+    }
+
+    #[test]
+    fn ten_cube_maps_fit_the_default_and_eleven_do_not() {
+        assert_eq!(cube(0).bytes, 96 << 20);
+        let ten: Vec<_> = (0..10).map(cube).collect();
+        assert!(check(&ten, DEFAULT_SHADOW_MAP_BUDGET).is_ok());
+        let eleven: Vec<_> = (0..11).map(cube).collect();
+        let err = check(&eleven, DEFAULT_SHADOW_MAP_BUDGET).unwrap_err();
+        let text = err.to_string();
+        assert!(
+            matches!(err, RenderError::ShadowBudget { bytes, budget, ref lights }
+            if bytes == 11 * (96 << 20) && budget == 1 << 30 && lights.len() == 11),
+            "{text}"
+        );
+        assert!(text.contains("1.0 GiB (light 0: 6 x 2048² = 96 MiB, light 1"), "{text}");
+        assert!(text.contains("shadow_map_budget_bytes = 1 GiB"), "{text}");
+    }
+
+    #[test]
+    fn sizes_saturate_instead_of_wrapping() {
+        assert_eq!(image_bytes(u32::MAX, 6, 16), u64::MAX);
+        let huge = ShadowStorage { bytes: u64::MAX, ..cube(0) };
+        assert!(check(&[huge, huge], u64::MAX).is_ok(), "u64::MAX is unlimited");
+    }
+}
