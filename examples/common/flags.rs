@@ -15,15 +15,8 @@ pub const MAX_HOLD_SECONDS: f32 = 3600.0;
 pub const MAX_TIME_SECONDS: f32 = 1e6;
 
 /// `WIDTHxHEIGHT`, each side at least 1 (the device's maximum is checked by the renderer,
-/// which names the limit).
-pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("{s:?} is not WIDTHxHEIGHT"))?;
-    let parse = |v: &str| v.trim().parse::<u32>().map_err(|e| format!("{v:?}: {e}"));
-    match (parse(w)?, parse(h)?) {
-        (0, _) | (_, 0) => Err(format!("{s:?}: each side must be at least 1")),
-        size => Ok(size),
-    }
-}
+/// which names the limit): the bench's parser, so every binary reads sizes alike.
+pub use umbra_bench::parse_size;
 
 /// A finite `f32` in `min..=max`.
 fn finite_in(s: &str, min: f32, max: f32) -> Result<f32, String> {
