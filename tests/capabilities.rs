@@ -61,6 +61,7 @@ fn a_depth_bounds_pipeline_is_built_only_where_the_feature_exists() {
 fn an_unknown_device_gives_an_error_listing_the_devices() {
     let options = umbra::vk::ContextOptions {
         validation: false,
+        synchronization_validation: false,
         device: Some("no-such-gpu-xyz".into()),
         surface_extensions: Vec::new(),
     };

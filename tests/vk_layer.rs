@@ -150,3 +150,25 @@ fn wrap_ops_survive_300_interleaved_counts_where_saturating_ops_do_not() {
         assert_eq!(clamp, 0, "saturating ops end at 255: the lit surface would read as shadowed");
     });
 }
+
+/// The suite runs the layer's synchronization validation (`common::with_context` asks for it
+/// through `ContextOptions::from_env`): two writes to one buffer with no barrier between them
+/// are reported as a hazard, so a missing barrier anywhere in umbra fails its test.
+#[test]
+fn synchronization_validation_reports_a_planted_hazard() {
+    let _ = env_logger::builder().is_test(true).filter_level(log::LevelFilter::Warn).try_init();
+    let options = umbra::vk::ContextOptions { validation: true, ..umbra::vk::ContextOptions::from_env() };
+    assert!(options.synchronization_validation, "UMBRA_SYNC_VALIDATION=0 turned it off for the suite");
+    let ctx = umbra::vk::Context::with_options(&options).expect("Vulkan context (run ci/setup.sh)");
+    let counter = ctx.validation();
+    {
+        let buffer = Buffer::new(&ctx, "twice-written buffer", BufferDesc::readback(256)).unwrap();
+        let mut rec = ctx.begin_commands("planted write-after-write").unwrap();
+        rec.fill_buffer(&buffer, 1);
+        rec.fill_buffer(&buffer, 2); // no barrier: WRITE_AFTER_WRITE
+        ctx.submit_and_wait(rec).unwrap();
+    }
+    drop(ctx);
+    println!("planted hazard: {} validation errors", counter.errors());
+    assert!(counter.errors() >= 1, "synchronization validation missed a write-after-write");
+}

@@ -31,6 +31,7 @@ pub fn run(args: &HardCasesArgs) -> BenchResult<()> {
     for device in &args.devices {
         let ctx = Context::with_options(&ContextOptions {
             validation: true,
+            synchronization_validation: true,
             device: Some(device.clone()),
             surface_extensions: Vec::new(),
         })?;

@@ -69,7 +69,15 @@ impl Aabb {
 }
 
 /// An indexed triangle mesh. Front faces wind counter-clockwise.
-#[derive(Clone, Debug, Default, PartialEq)]
+///
+/// Every mesh carries a [`revision`](Mesh::revision): a process-unique number naming its
+/// contents, assigned afresh by every constructor and by [`Mesh::touch`]. Renderers key what
+/// they derive from a mesh (welded adjacency, uploaded buffers) by it, so **call
+/// [`Mesh::touch`] after changing `positions`, `normals` or `indices` in place** (the in-place
+/// methods here, [`Mesh::transform`] and [`Mesh::append`], do it themselves). A clone keeps the
+/// revision of the mesh it copies: same revision, same contents. Equality compares contents,
+/// never revisions.
+#[derive(Clone, Debug)]
 pub struct Mesh {
     /// Name (from glTF, the scene file or the generator).
     pub name: String,
@@ -82,9 +90,49 @@ pub struct Mesh {
     /// The topology as authored in the source file (index pairs, before any unwelding for
     /// flat normals), when the mesh was imported; see [`crate::Adjacency`] for the welded one.
     pub authored_topology: Option<crate::TopologyReport>,
+    /// See [`Mesh::revision`].
+    pub(crate) revision: u64,
+}
+
+/// The next fresh revision (never 0, never reused in this process).
+fn fresh_revision() -> u64 {
+    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+    NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+}
+
+impl Default for Mesh {
+    fn default() -> Self {
+        Self::from_parts(String::new(), Vec::new(), Vec::new(), Vec::new())
+    }
+}
+
+impl PartialEq for Mesh {
+    fn eq(&self, other: &Self) -> bool {
+        self.name == other.name
+            && self.positions == other.positions
+            && self.normals == other.normals
+            && self.indices == other.indices
+            && self.authored_topology == other.authored_topology
+    }
 }
 
 impl Mesh {
+    /// The parts as they are, unchecked, with a fresh revision.
+    pub(crate) fn from_parts(name: String, positions: Vec<Vec3>, normals: Vec<Vec3>, indices: Vec<u32>) -> Self {
+        Self { name, positions, normals, indices, authored_topology: None, revision: fresh_revision() }
+    }
+
+    /// The process-unique number naming this mesh's contents (see [`Mesh`]).
+    pub fn revision(&self) -> u64 {
+        self.revision
+    }
+
+    /// Gives the mesh a fresh revision: call it after changing its `positions`, `normals` or
+    /// `indices` in place, so renderers rebuild and re-upload what they derived from it.
+    pub fn touch(&mut self) {
+        self.revision = fresh_revision();
+    }
+
     /// A mesh from parts, checked: as many normals as positions, indices in range and a
     /// multiple of three, finite positions within [`MAX_COORDINATE`], at most
     /// [`crate::limits::MAX_VERTICES`] vertices and [`crate::limits::MAX_INDICES`] indices.
@@ -94,7 +142,7 @@ impl Mesh {
         normals: Vec<Vec3>,
         indices: Vec<u32>,
     ) -> SceneResult<Self> {
-        let mesh = Self { name: name.into(), positions, normals, indices, authored_topology: None };
+        let mesh = Self::from_parts(name.into(), positions, normals, indices);
         mesh.validate()?;
         Ok(mesh)
     }
@@ -163,6 +211,7 @@ impl Mesh {
                 tri.swap(1, 2);
             }
         }
+        self.touch();
     }
 
     /// This mesh transformed by `m` (see [`Mesh::transform`]).
@@ -177,6 +226,7 @@ impl Mesh {
         self.positions.extend_from_slice(&other.positions);
         self.normals.extend_from_slice(&other.normals);
         self.indices.extend(other.indices.iter().map(|i| i + base));
+        self.touch();
     }
 
     /// Checks the invariants listed on [`Mesh::new`].
@@ -230,6 +280,26 @@ mod tests {
         let m = Mesh::with_flat_normals("t", &p, &[0, 2, 1]).unwrap();
         assert_eq!(m.normals, vec![Vec3::Y; 3]);
         assert_eq!(m.triangle_count(), 1);
+    }
+
+    #[test]
+    fn revisions_are_fresh_per_mesh_shared_by_clones_and_renewed_by_edits() {
+        let a = crate::primitives::cuboid(Vec3::ONE);
+        let b = crate::primitives::cuboid(Vec3::ONE);
+        assert_eq!(a, b, "equal contents compare equal");
+        assert_ne!(a.revision(), b.revision(), "every mesh gets its own revision");
+        let mut c = a.clone();
+        assert_eq!(c.revision(), a.revision(), "a clone has the same contents");
+        c.positions[7].x += 0.5;
+        c.touch();
+        assert_ne!(c.revision(), a.revision());
+        let before = c.revision();
+        c.transform(Mat4::from_translation(Vec3::X));
+        assert_ne!(c.revision(), before, "in-place methods touch");
+        let before = c.revision();
+        c.append(&b);
+        assert_ne!(c.revision(), before);
+        assert_ne!(Mesh::default().revision(), Mesh::default().revision());
     }
 
     #[test]

@@ -10,7 +10,7 @@ use std::f32::consts::{PI, TAU};
 
 /// Builds a mesh from generated parts; generators only produce valid indices.
 fn assemble(name: &str, positions: Vec<Vec3>, normals: Vec<Vec3>, indices: Vec<u32>) -> Mesh {
-    Mesh { name: name.to_owned(), positions, normals, indices, authored_topology: None }
+    Mesh::from_parts(name.to_owned(), positions, normals, indices)
 }
 
 /// A square in the XZ plane at y = 0, `size` wide, facing +Y (open: one-sided).

@@ -87,6 +87,16 @@ pub enum RenderError {
         /// The accepted range.
         accepted: String,
     },
+    /// A mesh changed (its vertex or index count, or its first or last position) but kept its
+    /// revision: it was edited in place without [`umbra_scene::Mesh::touch`], and what the
+    /// renderer derived from it would be stale.
+    #[error("mesh {mesh} ({name:?}) changed but kept its revision: call Mesh::touch() after editing a mesh in place")]
+    StaleMesh {
+        /// Index of the mesh in `Scene::meshes`.
+        mesh: usize,
+        /// Its name.
+        name: String,
+    },
     /// Writing an output file failed.
     #[error("writing {path}: {message}")]
     Output {

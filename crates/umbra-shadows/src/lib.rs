@@ -18,6 +18,7 @@ mod forward;
 mod gbuffer;
 mod gpu_scene;
 pub mod hybrid;
+mod mesh_cache;
 pub mod plan;
 mod reach;
 mod renderer;

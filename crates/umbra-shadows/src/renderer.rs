@@ -27,6 +27,7 @@ use crate::gpu_scene::{self, GpuScene, GpuShadow, SceneCounts};
 use crate::hybrid::cull;
 use crate::hybrid::pass::{self as hybrid_pass, HybridLight, HybridPass};
 use crate::hybrid::{HybridSettings, MaskKind, DEPTH_BOUNDS_EPSILON};
+use crate::mesh_cache::MeshCache;
 use crate::plan::{plan_frame, tally, CullReason, FramePlan, HybridReport, LightPlan, PlanInput, ShadowMapReport};
 use crate::plan::{CasterMode, ShadowVolumeReport, SilhouetteMapReport, SILHOUETTE_CUBE_UNSUPPORTED};
 use crate::report::{FrameReport, SceneSummary};
@@ -42,9 +43,7 @@ use crate::silhouette_map::pass::SilhouetteMapPass;
 use crate::timing::{PassLog, PassTimer};
 use crate::{RenderError, RenderResult};
 use std::path::Path;
-use std::sync::Arc;
 use std::time::Instant;
-use umbra_scene::Adjacency;
 use umbra_scene::{Scene, Technique};
 use umbra_vk::{
     vk, Buffer, BufferDesc, ColorAttachment, Context, DepthAttachment, DescriptorSetLayout, Image, ImageDesc,
@@ -173,35 +172,14 @@ pub struct Renderer {
     mask: MaskKind,
     /// Classification and silhouette-point targets (with `diagnostics`).
     diagnostic_targets: Option<DiagnosticTargets>,
-    /// Welded connectivity per mesh, kept while the mesh is unchanged.
-    adjacency: Vec<(MeshKey, Arc<Adjacency>)>,
+    /// Welded connectivity per mesh, kept while the mesh keeps its revision.
+    meshes: MeshCache,
     /// Volume overdraw target and its readback (with `shadow_volume.overdraw`).
     overdraw: Option<(Image, Buffer)>,
     /// The G-buffer pass (with `gbuffer`).
     gbuffer: Option<GBufferPass>,
     /// Command buffers submitted so far.
     submissions: u64,
-}
-
-/// What identifies a mesh's geometry cheaply enough to check every frame.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct MeshKey {
-    vertices: usize,
-    indices: usize,
-    first: [u32; 3],
-    last: [u32; 3],
-}
-
-impl MeshKey {
-    fn of(m: &umbra_scene::Mesh) -> Self {
-        let bits = |p: Option<&glam::Vec3>| p.map_or([0; 3], |p| p.to_array().map(f32::to_bits));
-        Self {
-            vertices: m.positions.len(),
-            indices: m.indices.len(),
-            first: bits(m.positions.first()),
-            last: bits(m.positions.last()),
-        }
-    }
 }
 
 impl Renderer {
@@ -279,7 +257,7 @@ impl Renderer {
             hybrid,
             mask,
             diagnostic_targets,
-            adjacency: Vec::new(),
+            meshes: MeshCache::default(),
             overdraw,
             gbuffer,
             submissions: 0,
@@ -342,8 +320,7 @@ impl Renderer {
         let shadows = |l: &LightPlan, t: Technique| uses(l, t) && l.shadowed;
         // Welded connectivity of every mesh (cached): volumes and silhouette maps use it, and
         // the report lists every mesh's topology.
-        self.update_adjacency(scene);
-        let adjacency: Vec<Arc<Adjacency>> = self.adjacency.iter().map(|(_, a)| Arc::clone(a)).collect();
+        let adjacency = self.meshes.adjacency(scene)?;
 
         // Shadow maps (also the depth maps of silhouette maps): fit each light's views, size
         // its map, and note what the GPU reads.
@@ -993,27 +970,6 @@ impl Renderer {
             cpu_frame_ms: started.elapsed().as_secs_f64() * 1e3,
         };
         Ok(Frame { width: self.desc.width, height: self.desc.height, rgba, report, overdraw, diagnostics, gbuffer })
-    }
-}
-
-impl Renderer {
-    /// Rebuilds the welded connectivity of every mesh whose geometry changed.
-    fn update_adjacency(&mut self, scene: &Scene) {
-        self.adjacency.truncate(scene.meshes.len());
-        for (i, mesh) in scene.meshes.iter().enumerate() {
-            let key = MeshKey::of(mesh);
-            match self.adjacency.get(i) {
-                Some((k, _)) if *k == key => {}
-                _ => {
-                    let entry = (key, Arc::new(Adjacency::build(mesh)));
-                    if i < self.adjacency.len() {
-                        self.adjacency[i] = entry;
-                    } else {
-                        self.adjacency.push(entry);
-                    }
-                }
-            }
-        }
     }
 }
 

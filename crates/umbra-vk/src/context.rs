@@ -15,6 +15,9 @@ use std::sync::{Arc, Mutex, MutexGuard};
 
 /// The environment variable that turns on the Khronos validation layer (`1`).
 pub const VALIDATION_ENV: &str = "UMBRA_VALIDATION";
+/// The environment variable that turns the layer's synchronization validation off (`0`); it is
+/// on whenever validation is.
+pub const SYNC_VALIDATION_ENV: &str = "UMBRA_SYNC_VALIDATION";
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 
 /// How [`Context::new`] creates its instance and picks its device.
@@ -22,6 +25,10 @@ const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 pub struct ContextOptions {
     /// Enable `VK_LAYER_KHRONOS_validation`; it is an error if the layer is missing.
     pub validation: bool,
+    /// With `validation`, also the layer's synchronization validation (hazards between
+    /// commands: `SYNC-HAZARD-*` messages), through `VK_EXT_validation_features`; it is an
+    /// error if the layer does not offer that extension.
+    pub synchronization_validation: bool,
     /// Case-insensitive substring of the device name to pick (`llvmpipe`, `swiftshader`, …).
     pub device: Option<String>,
     /// Instance extensions for presenting to a window (from [`crate::surface_extensions`]);
@@ -31,10 +38,12 @@ pub struct ContextOptions {
 }
 
 impl ContextOptions {
-    /// Reads `UMBRA_VALIDATION` (`1` turns validation on) and `UMBRA_DEVICE`.
+    /// Reads `UMBRA_VALIDATION` (`1` turns validation on), `UMBRA_SYNC_VALIDATION` (`0` turns
+    /// its synchronization validation off; on otherwise) and `UMBRA_DEVICE`.
     pub fn from_env() -> Self {
         Self {
             validation: std::env::var(VALIDATION_ENV).is_ok_and(|v| v == "1"),
+            synchronization_validation: std::env::var(SYNC_VALIDATION_ENV).map_or(true, |v| v != "0"),
             device: std::env::var(DEVICE_ENV).ok().filter(|s| !s.is_empty()),
             surface_extensions: Vec::new(),
         }
@@ -408,6 +417,18 @@ fn create_instance(
         }
         layer_names.push(VALIDATION_LAYER.as_ptr());
     }
+    let sync_validation = options.validation && options.synchronization_validation;
+    if sync_validation {
+        // SAFETY: a plain query of the loader for the layer's own instance extensions.
+        let layer_exts = unsafe { entry.enumerate_instance_extension_properties(Some(VALIDATION_LAYER)) }
+            .call("vkEnumerateInstanceExtensionProperties")?;
+        if !layer_exts.iter().any(|e| e.extension_name_as_c_str() == Ok(ash::ext::validation_features::NAME)) {
+            return Err(VkError::Unsupported {
+                device: "the validation layer".into(),
+                what: "synchronization validation (VK_EXT_validation_features)".into(),
+            });
+        }
+    }
     let debug_utils = has_ext(ash::ext::debug_utils::NAME) || options.validation;
     let mut ext_names = Vec::new();
     if debug_utils {
@@ -421,6 +442,9 @@ fn create_instance(
             });
         }
         ext_names.push(name.as_ptr());
+    }
+    if sync_validation {
+        ext_names.push(ash::ext::validation_features::NAME.as_ptr());
     }
     let mut flags = vk::InstanceCreateFlags::empty();
     if has_ext(ash::khr::portability_enumeration::NAME) {
@@ -439,6 +463,11 @@ fn create_instance(
         .flags(flags);
     if debug_utils {
         info = info.push_next(&mut messenger_info);
+    }
+    let enabled = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
+    let mut features = vk::ValidationFeaturesEXT::default().enabled_validation_features(&enabled);
+    if sync_validation {
+        info = info.push_next(&mut features);
     }
     // SAFETY: every pointer in `info` outlives the call.
     let instance = unsafe { entry.create_instance(&info, None) }.call("vkCreateInstance")?;

@@ -84,7 +84,7 @@ pub enum ImageState {
     FragmentRead,
     /// Source of a copy.
     TransferSrc,
-    /// Destination of a copy.
+    /// Destination of a copy, a blit or a clear.
     TransferDst,
 }
 
@@ -118,7 +118,8 @@ impl ImageState {
             }
             ImageState::FragmentRead => (S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ),
             ImageState::TransferSrc => (S::COPY, A::TRANSFER_READ),
-            ImageState::TransferDst => (S::COPY, A::TRANSFER_WRITE),
+            // Copies, blits and clears (vkCmdClear*Image runs in the CLEAR stage, not COPY).
+            ImageState::TransferDst => (S::ALL_TRANSFER, A::TRANSFER_WRITE),
         }
     }
 }
