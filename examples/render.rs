@@ -25,17 +25,10 @@ struct Args {
 }
 
 fn parse_technique(s: &str) -> Result<Technique, String> {
-    [
-        Technique::Unshadowed,
-        Technique::ShadowMap,
-        Technique::ShadowVolume,
-        Technique::SilhouetteMap,
-        Technique::Hybrid,
-        Technique::Auto,
-    ]
-    .into_iter()
-    .find(|t| t.name() == s)
-    .ok_or_else(|| format!("{s:?}: expected unshadowed, shadow_map, shadow_volume, silhouette_map, hybrid or auto"))
+    Technique::from_name(s).ok_or_else(|| {
+        let names: Vec<_> = Technique::ALL.iter().map(|t| t.name()).collect();
+        format!("{s:?}: expected one of {}", names.join(", "))
+    })
 }
 
 fn main() -> anyhow::Result<()> {

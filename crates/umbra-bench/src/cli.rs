@@ -7,6 +7,7 @@ use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use umbra_reference::SceneBvh;
+use umbra_scene::Technique;
 use umbra_shadows::{MaskKind, ShadowFilter};
 
 #[derive(Parser, Debug)]
@@ -94,11 +95,10 @@ fn run_sweep(args: &SweepArgs) -> BenchResult<()> {
         .techniques
         .iter()
         .map(|t| {
-            sweep::TECHNIQUES
-                .iter()
-                .find(|(s, _)| s == t)
-                .map(|(s, _)| *s)
-                .ok_or_else(|| BenchError::Usage(format!("--techniques: {t:?} is not sm, silmap, sv or hybrid")))
+            sweep::technique(t).map(Technique::short).ok_or_else(|| {
+                let names: Vec<_> = sweep::TECHNIQUES.iter().map(|t| t.short()).collect();
+                BenchError::Usage(format!("--techniques: {t:?} is not one of {}", names.join(", ")))
+            })
         })
         .collect::<BenchResult<Vec<_>>>()?;
     plots::load_font()?;

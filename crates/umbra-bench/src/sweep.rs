@@ -25,17 +25,12 @@ pub struct Plan {
     pub masks: Vec<MaskKind>,
 }
 
-/// Short name ↔ technique.
-pub const TECHNIQUES: [(&str, Technique); 4] = [
-    ("sm", Technique::ShadowMap),
-    ("silmap", Technique::SilhouetteMap),
-    ("sv", Technique::ShadowVolume),
-    ("hybrid", Technique::Hybrid),
-];
+/// The techniques a sweep measures, by their short names ([`Technique::short`]).
+pub const TECHNIQUES: [Technique; 4] = Technique::SHADOWING;
 
-/// The technique of a short name.
+/// The swept technique of a short name.
 pub fn technique(short: &str) -> Option<Technique> {
-    TECHNIQUES.iter().find(|(s, _)| *s == short).map(|&(_, t)| t)
+    TECHNIQUES.into_iter().find(|t| t.short() == short)
 }
 
 impl Plan {

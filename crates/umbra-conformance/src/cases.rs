@@ -10,8 +10,7 @@
 use umbra_scene::Technique;
 
 /// The techniques every case runs, in table order.
-pub const TECHNIQUES: [Technique; 4] =
-    [Technique::ShadowMap, Technique::SilhouetteMap, Technique::ShadowVolume, Technique::Hybrid];
+pub const TECHNIQUES: [Technique; 4] = Technique::SHADOWING;
 
 /// What one technique must achieve on one case.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -16,16 +16,9 @@ pub fn cell(v: &Verdict) -> &'static str {
     }
 }
 
-/// Short column name of a technique.
+/// Short column name of a technique ([`Technique::column`]).
 pub fn short(t: Technique) -> &'static str {
-    match t {
-        Technique::ShadowMap => "SM",
-        Technique::SilhouetteMap => "silmap",
-        Technique::ShadowVolume => "SV",
-        Technique::Hybrid => "hybrid",
-        Technique::Unshadowed => "none",
-        Technique::Auto => "auto",
-    }
+    t.column()
 }
 
 /// The table of cases × techniques × devices, then per case its reason, picture and every

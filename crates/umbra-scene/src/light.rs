@@ -25,16 +25,60 @@ pub enum Technique {
 }
 
 impl Technique {
-    /// The snake_case name used in scene files and reports.
-    pub fn name(self) -> &'static str {
+    /// Every technique, in umbra's table order: the four shadowing ones
+    /// ([`Technique::SHADOWING`]), then unshadowed and auto.
+    pub const ALL: [Technique; 6] = [
+        Technique::ShadowMap,
+        Technique::SilhouetteMap,
+        Technique::ShadowVolume,
+        Technique::Hybrid,
+        Technique::Unshadowed,
+        Technique::Auto,
+    ];
+
+    /// The techniques that shadow a light by one algorithm, in table order: what the bench
+    /// sweeps, the conformance suite judges and the poster shows.
+    pub const SHADOWING: [Technique; 4] =
+        [Technique::ShadowMap, Technique::SilhouetteMap, Technique::ShadowVolume, Technique::Hybrid];
+
+    /// The one table of a technique's names: (scene files and reports, the bench's
+    /// configurations, table columns, people).
+    const fn names(self) -> (&'static str, &'static str, &'static str, &'static str) {
         match self {
-            Technique::Unshadowed => "unshadowed",
-            Technique::ShadowMap => "shadow_map",
-            Technique::ShadowVolume => "shadow_volume",
-            Technique::SilhouetteMap => "silhouette_map",
-            Technique::Hybrid => "hybrid",
-            Technique::Auto => "auto",
+            Technique::ShadowMap => ("shadow_map", "sm", "SM", "shadow map"),
+            Technique::SilhouetteMap => ("silhouette_map", "silmap", "silmap", "silhouette map"),
+            Technique::ShadowVolume => ("shadow_volume", "sv", "SV", "shadow volumes"),
+            Technique::Hybrid => ("hybrid", "hybrid", "hybrid", "hybrid"),
+            Technique::Unshadowed => ("unshadowed", "none", "none", "unshadowed"),
+            Technique::Auto => ("auto", "auto", "auto", "auto"),
         }
+    }
+
+    /// The snake_case name used in scene files, reports and `--technique`.
+    pub const fn name(self) -> &'static str {
+        self.names().0
+    }
+
+    /// The short name of the bench's configurations and records (`sm`, `silmap`, `sv`,
+    /// `hybrid`).
+    pub const fn short(self) -> &'static str {
+        self.names().1
+    }
+
+    /// The column heading of the conformance tables (`SM`, `silmap`, `SV`, `hybrid`).
+    pub const fn column(self) -> &'static str {
+        self.names().2
+    }
+
+    /// What people call it (`shadow map`, `shadow volumes`, …): captions and titles.
+    pub const fn title(self) -> &'static str {
+        self.names().3
+    }
+
+    /// The technique whose [`name`](Technique::name) or [`short`](Technique::short) name is
+    /// `s`.
+    pub fn from_name(s: &str) -> Option<Technique> {
+        Technique::ALL.into_iter().find(|t| t.name() == s || t.short() == s)
     }
 }
 
@@ -190,5 +234,26 @@ impl Light {
     /// Whether this light can change the image at all (non-zero radiance).
     pub fn contributes(&self) -> bool {
         self.radiance().max_element() > 0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_technique_has_unique_names_that_round_trip() {
+        for t in Technique::ALL {
+            assert_eq!(Technique::from_name(t.name()), Some(t));
+            assert_eq!(Technique::from_name(t.short()), Some(t));
+            // The scene-file spelling (serde) is the table's name.
+            let toml = toml::to_string(&std::collections::BTreeMap::from([("t", t)])).unwrap();
+            assert_eq!(toml.trim(), format!("t = \"{}\"", t.name()));
+            for u in Technique::ALL.into_iter().filter(|&u| u != t) {
+                assert!(t.name() != u.name() && t.short() != u.short() && t.column() != u.column(), "{t:?} {u:?}");
+            }
+        }
+        assert!(Technique::SHADOWING.iter().all(|t| Technique::ALL.contains(t)));
+        assert_eq!(Technique::from_name("bogus"), None);
     }
 }

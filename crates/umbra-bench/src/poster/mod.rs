@@ -13,6 +13,7 @@ use crate::{plots, scenes, BenchError, BenchResult};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use umbra_reference::SceneBvh;
+use umbra_scene::Technique;
 use umbra_shadows::{MaskKind, ShadowFilter};
 use umbra_vk::Context;
 
@@ -74,7 +75,8 @@ pub fn configs(args: &PosterArgs, depth_bounds: bool) -> Vec<Config> {
     let mask = args.mask.unwrap_or(MaskKind::best_for(depth_bounds));
     sweep::TECHNIQUES
         .iter()
-        .map(|&(technique, _)| Config {
+        .map(|t| t.short())
+        .map(|technique| Config {
             scene: args.scene.clone(),
             technique,
             sm_size: (technique != "sv").then_some(args.sm_size),
@@ -91,7 +93,7 @@ pub fn bench_command(args: &PosterArgs, depth_bounds: bool) -> String {
         "umbra-bench sweep --scenes {} --techniques {} --sm-sizes {} --filters {} --masks {} --size {}x{} \
          --frames {} --warmup {} --spot-lights",
         args.scene,
-        sweep::TECHNIQUES.map(|(short, _)| short).join(","),
+        sweep::TECHNIQUES.map(Technique::short).join(","),
         args.sm_size,
         args.filter.name(),
         mask.name(),
@@ -152,15 +154,9 @@ fn write_json(poster: &Poster, path: &Path) -> BenchResult<()> {
     std::fs::write(path, text).map_err(|e| BenchError::output(path, e))
 }
 
-/// What a technique is called on the poster.
+/// What a technique is called on the poster ([`Technique::title`] of its short name).
 pub fn technique_title(short: &str) -> &'static str {
-    match short {
-        "sm" => "shadow map",
-        "silmap" => "silhouette map",
-        "sv" => "shadow volumes",
-        "hybrid" => "hybrid",
-        _ => "technique",
-    }
+    sweep::technique(short).map_or("technique", Technique::title)
 }
 
 /// One line per technique: configuration, GPU ms (median, p25–p75), wrong pixels.
