@@ -69,3 +69,38 @@ fn a_mesh_resized_without_touch_is_a_typed_error() {
         renderer.render(&s).expect("after touch() the mesh renders");
     });
 }
+
+/// The meshes are uploaded once and reused while every mesh keeps its revision: the second
+/// frame of an unchanged scene uploads no geometry and is the same image; a touched mesh is
+/// uploaded again.
+#[test]
+fn unchanged_meshes_are_not_uploaded_again() {
+    common::with_context(|ctx| {
+        let mut renderer = Renderer::new(ctx, RendererDesc::new(common::SIZE.0, common::SIZE.1)).expect("renderer");
+        let mut s = scene();
+        let first = renderer.render(&s).expect("frame");
+        let second = renderer.render(&s).expect("frame");
+        println!(
+            "geometry uploaded: first frame {} bytes, second {} bytes",
+            first.report.geometry_uploaded_bytes, second.report.geometry_uploaded_bytes
+        );
+        assert!(first.report.geometry_uploaded_bytes > 0);
+        assert_eq!(second.report.geometry_uploaded_bytes, 0, "unchanged meshes were uploaded again");
+        assert!(first.rgba == second.rgba, "reused geometry draws the same image");
+        s.objects[1].transform = Mat4::from_translation(Vec3::new(0.3, 1.0, 0.0));
+        assert_eq!(
+            renderer.render(&s).expect("frame").report.geometry_uploaded_bytes,
+            0,
+            "a moved object is no mesh edit"
+        );
+        deform(&mut s);
+        s.meshes[1].touch();
+        let edited = renderer.render(&s).expect("frame");
+        assert_eq!(edited.report.geometry_uploaded_bytes, first.report.geometry_uploaded_bytes);
+        let mut fresh = Renderer::new(ctx, RendererDesc::new(common::SIZE.0, common::SIZE.1)).expect("renderer");
+        assert!(
+            edited.rgba == fresh.render(&s).expect("frame").rgba,
+            "the re-uploaded mesh is drawn as uploaded fresh"
+        );
+    });
+}

@@ -252,13 +252,13 @@ fn draw_objects_where<'a>(
     keep: impl Fn(&umbra_scene::Object) -> bool,
 ) {
     rec.bind_descriptor_set(layout, 0, &gpu.set);
-    rec.bind_vertex_buffer(&gpu.vertices);
-    rec.bind_index_buffer(&gpu.indices);
+    rec.bind_vertex_buffer(&gpu.geometry.vertices);
+    rec.bind_index_buffer(&gpu.geometry.indices);
     for (i, o) in scene.objects.iter().enumerate() {
         if !keep(o) {
             continue;
         }
-        let Some(m) = gpu.meshes.get(o.mesh) else { continue };
+        let Some(m) = gpu.geometry.meshes.get(o.mesh) else { continue };
         if m.index_count == 0 {
             continue;
         }

@@ -5,6 +5,7 @@
 use crate::{RenderError, RenderResult};
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
+use std::sync::Arc;
 use umbra_scene::{Mesh, Scene};
 use umbra_vk::{
     vk, Binding, Buffer, Capabilities, Context, DescriptorSet, DescriptorSetLayout, Limit, Resource, VertexAttribute,
@@ -90,11 +91,30 @@ pub(crate) struct MeshRange {
     pub vertex_offset: i32,
 }
 
-/// The scene's GPU buffers and descriptor set.
-pub(crate) struct GpuScene {
+/// Every mesh of a scene packed in one vertex and one index buffer, kept from frame to frame
+/// while every mesh keeps its [revision](umbra_scene::Mesh::revision).
+pub(crate) struct SceneGeometry {
     pub vertices: Buffer,
     pub indices: Buffer,
     pub meshes: Vec<MeshRange>,
+    /// The revision of each mesh packed, in mesh order.
+    revisions: Vec<u64>,
+}
+
+impl SceneGeometry {
+    /// Whether these buffers hold exactly `scene`'s meshes as they are now.
+    fn holds(&self, scene: &Scene) -> bool {
+        self.revisions.len() == scene.meshes.len()
+            && self.revisions.iter().zip(&scene.meshes).all(|(&r, m)| r == m.revision())
+    }
+}
+
+/// The scene's GPU buffers and descriptor set.
+pub(crate) struct GpuScene {
+    /// The meshes (shared with the frames before, while unchanged).
+    pub geometry: Arc<SceneGeometry>,
+    /// Bytes of mesh data this frame uploaded (0 when the geometry was reused).
+    pub geometry_uploaded: u64,
     /// Held for the descriptor set's lifetime.
     _buffers: [Buffer; 4],
     pub set: DescriptorSet,
@@ -177,7 +197,9 @@ pub(crate) fn check_limits(caps: &Capabilities, counts: SceneCounts) -> RenderRe
 
 impl GpuScene {
     /// Uploads `scene` as seen by `camera` with `aspect` (width / height), with each light's shadow-map
-    /// parameters (`shadows[i]` for light `i`) and every shadow view-projection.
+    /// parameters (`shadows[i]` for light `i`) and every shadow view-projection. The meshes are
+    /// uploaded only when `previous` does not hold them as they are now.
+    #[allow(clippy::too_many_arguments)]
     pub fn upload(
         ctx: &Context,
         layout: &DescriptorSetLayout,
@@ -186,10 +208,12 @@ impl GpuScene {
         aspect: f32,
         shadows: &[GpuShadow],
         shadow_views: &[Mat4],
+        previous: Option<&Arc<SceneGeometry>>,
     ) -> RenderResult<Self> {
         scene.validate()?;
         check_limits(ctx.capabilities(), SceneCounts::of(scene, shadow_views.len()))?;
-        let (vertices, indices, meshes) = pack_meshes(&scene.meshes);
+        let reused = previous.filter(|g| g.holds(scene)).cloned();
+        let packed = if reused.is_none() { Some(pack_meshes(&scene.meshes)) } else { None };
 
         let c = camera;
         let frame = FrameUniforms {
@@ -230,23 +254,43 @@ impl GpuScene {
             .collect();
         let views: Vec<[f32; 16]> = shadow_views.iter().map(Mat4::to_cols_array).collect();
         let ssbo = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let mut uploads = vec![
+            ("frame uniforms", vk::BufferUsageFlags::UNIFORM_BUFFER, bytemuck::bytes_of(&frame)),
+            ("objects", ssbo, nonempty(bytemuck::cast_slice(&objects))),
+            ("lights", ssbo, nonempty(bytemuck::cast_slice(&lights))),
+            ("shadow views", ssbo, nonempty(bytemuck::cast_slice(&views))),
+        ];
+        if let Some((vertices, indices, _)) = &packed {
+            uploads.push((
+                "scene vertices",
+                vk::BufferUsageFlags::VERTEX_BUFFER,
+                nonempty(bytemuck::cast_slice(vertices)),
+            ));
+            uploads.push((
+                "scene indices",
+                vk::BufferUsageFlags::INDEX_BUFFER,
+                nonempty(bytemuck::cast_slice(indices)),
+            ));
+        }
         // One submission for every buffer of the frame.
-        let uploaded = Buffer::upload_many(
-            ctx,
-            &[
-                ("scene vertices", vk::BufferUsageFlags::VERTEX_BUFFER, nonempty(bytemuck::cast_slice(&vertices))),
-                ("scene indices", vk::BufferUsageFlags::INDEX_BUFFER, nonempty(bytemuck::cast_slice(&indices))),
-                ("frame uniforms", vk::BufferUsageFlags::UNIFORM_BUFFER, bytemuck::bytes_of(&frame)),
-                ("objects", ssbo, nonempty(bytemuck::cast_slice(&objects))),
-                ("lights", ssbo, nonempty(bytemuck::cast_slice(&lights))),
-                ("shadow views", ssbo, nonempty(bytemuck::cast_slice(&views))),
-            ],
-        )?;
-        let [vertices, indices, frame, objects, lights, views]: [Buffer; 6] =
-            uploaded.try_into().map_err(|_| umbra_vk::VkError::InvalidDesc {
+        let mut uploaded = Buffer::upload_many(ctx, &uploads)?.into_iter();
+        let mut next = || {
+            uploaded.next().ok_or(umbra_vk::VkError::InvalidDesc {
                 what: "scene upload",
-                why: "upload_many returned a different number of buffers".into(),
-            })?;
+                why: "upload_many returned fewer buffers than asked for".into(),
+            })
+        };
+        let (frame, objects, lights, views) = (next()?, next()?, next()?, next()?);
+        let (geometry, geometry_uploaded) = match (reused, packed) {
+            (Some(g), _) => (g, 0),
+            (None, packed) => {
+                let (_, _, meshes) = packed.unwrap_or_default();
+                let (vertices, indices) = (next()?, next()?);
+                let bytes = vertices.desc.size + indices.desc.size;
+                let revisions = scene.meshes.iter().map(|m| m.revision()).collect();
+                (Arc::new(SceneGeometry { vertices, indices, meshes, revisions }), bytes)
+            }
+        };
         let set = DescriptorSet::new(
             ctx,
             "scene set",
@@ -258,7 +302,7 @@ impl GpuScene {
                 Resource::Buffer(&views),
             ],
         )?;
-        Ok(Self { vertices, indices, meshes, _buffers: [frame, objects, lights, views], set })
+        Ok(Self { geometry, geometry_uploaded, _buffers: [frame, objects, lights, views], set })
     }
 }
 

@@ -23,7 +23,7 @@ use crate::diagnostics::SilhouetteMapImage;
 use crate::diagnostics::{self, ClassReadback, DiagnosticTargets, GBuffer, LightDiagnostics, PixelClass};
 use crate::forward::{Forward, PassBounds};
 use crate::gbuffer::{self, GBufferPass};
-use crate::gpu_scene::{self, GpuScene, GpuShadow, SceneCounts};
+use crate::gpu_scene::{self, GpuScene, GpuShadow, SceneCounts, SceneGeometry};
 use crate::hybrid::cull;
 use crate::hybrid::pass::{self as hybrid_pass, HybridLight, HybridPass};
 use crate::hybrid::{HybridSettings, MaskKind, DEPTH_BOUNDS_EPSILON};
@@ -43,6 +43,7 @@ use crate::silhouette_map::pass::SilhouetteMapPass;
 use crate::timing::{PassLog, PassTimer};
 use crate::{RenderError, RenderResult};
 use std::path::Path;
+use std::sync::Arc;
 use std::time::Instant;
 use umbra_scene::{Scene, Technique};
 use umbra_vk::{
@@ -174,6 +175,8 @@ pub struct Renderer {
     diagnostic_targets: Option<DiagnosticTargets>,
     /// Welded connectivity per mesh, kept while the mesh keeps its revision.
     meshes: MeshCache,
+    /// The meshes on the GPU, reused while every mesh keeps its revision.
+    geometry: Option<Arc<SceneGeometry>>,
     /// Volume overdraw target and its readback (with `shadow_volume.overdraw`).
     overdraw: Option<(Image, Buffer)>,
     /// The G-buffer pass (with `gbuffer`).
@@ -258,6 +261,7 @@ impl Renderer {
             mask,
             diagnostic_targets,
             meshes: MeshCache::default(),
+            geometry: None,
             overdraw,
             gbuffer,
             submissions: 0,
@@ -506,7 +510,10 @@ impl Renderer {
             aspect,
             &gpu_shadows,
             &shadow_views,
+            self.geometry.as_ref(),
         )?;
+        self.geometry = Some(Arc::clone(&gpu.geometry));
+        let geometry_uploaded_bytes = gpu.geometry_uploaded;
         let shadow_sets = lights
             .iter()
             .filter(|l| l.recorded)
@@ -968,6 +975,7 @@ impl Renderer {
             diagnostic_gpu_ms: sum(true),
             passes,
             cpu_frame_ms: started.elapsed().as_secs_f64() * 1e3,
+            geometry_uploaded_bytes,
         };
         Ok(Frame { width: self.desc.width, height: self.desc.height, rgba, report, overdraw, diagnostics, gbuffer })
     }

@@ -204,6 +204,9 @@ pub struct FrameReport {
     pub diagnostic_gpu_ms: Option<f64>,
     /// CPU wall time of recording, submission and wait, in milliseconds.
     pub cpu_frame_ms: f64,
+    /// Bytes of mesh data (vertices and indices) uploaded for this frame: 0 when every mesh
+    /// kept its revision since the frame before ([`umbra_scene::Mesh::touch`]).
+    pub geometry_uploaded_bytes: u64,
 }
 
 impl FrameReport {

@@ -215,10 +215,10 @@ impl ShadowMapPass {
             rec.bind_pipeline(&self.pipeline);
             rec.set_depth_bias(self.settings.bias.constant, bias_clamp, self.settings.effective_slope());
             rec.bind_descriptor_set(layout, 0, &gpu.set);
-            rec.bind_vertex_buffer(&gpu.vertices);
-            rec.bind_index_buffer(&gpu.indices);
+            rec.bind_vertex_buffer(&gpu.geometry.vertices);
+            rec.bind_index_buffer(&gpu.geometry.indices);
             for &object in views.casters_of(layer) {
-                let Some(m) = scene.objects.get(object).and_then(|o| gpu.meshes.get(o.mesh)) else { continue };
+                let Some(m) = scene.objects.get(object).and_then(|o| gpu.geometry.meshes.get(o.mesh)) else { continue };
                 if m.index_count == 0 {
                     continue;
                 }
