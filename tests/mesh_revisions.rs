@@ -104,3 +104,23 @@ fn unchanged_meshes_are_not_uploaded_again() {
         );
     });
 }
+
+/// `FrameReport::memory_allocations` counts the buffers and images a frame allocated: the
+/// first frame allocates its maps and targets, a warm frame of the same scene fewer (the
+/// geometry is reused); the figures are printed for `docs/results.md`'s before/after of the
+/// GPU-resident scene.
+#[test]
+fn the_report_counts_the_memory_allocations_of_a_frame() {
+    common::with_context(|ctx| {
+        let before = ctx.memory_allocations();
+        let probe = umbra::vk::Buffer::new(ctx, "counted", umbra::vk::BufferDesc::readback(64)).expect("buffer");
+        assert_eq!(ctx.memory_allocations(), before + 1, "one buffer, one allocation");
+        drop(probe);
+        let mut renderer = Renderer::new(ctx, RendererDesc::new(common::SIZE.0, common::SIZE.1)).expect("renderer");
+        let s = scene();
+        let frames: Vec<u64> = (0..4).map(|_| renderer.render(&s).expect("frame").report.memory_allocations).collect();
+        println!("memory allocations per frame: {frames:?}");
+        assert!(frames[0] > frames[3], "a warm frame allocates less than the first: {frames:?}");
+        assert!(frames[1..].windows(2).all(|w| w[0] == w[1]), "warm frames allocate alike: {frames:?}");
+    });
+}

@@ -251,7 +251,7 @@ fn draw_objects_where<'a>(
     log: &mut PassLog,
     keep: impl Fn(&umbra_scene::Object) -> bool,
 ) {
-    rec.bind_descriptor_set(layout, 0, &gpu.set);
+    rec.bind_descriptor_set(layout, 0, &gpu.frame.set);
     rec.bind_vertex_buffer(&gpu.geometry.vertices);
     rec.bind_index_buffer(&gpu.geometry.indices);
     for (i, o) in scene.objects.iter().enumerate() {

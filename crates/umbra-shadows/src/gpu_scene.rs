@@ -8,7 +8,8 @@ use glam::{Mat4, Vec3};
 use std::sync::Arc;
 use umbra_scene::{Mesh, Scene};
 use umbra_vk::{
-    vk, Binding, Buffer, Capabilities, Context, DescriptorSet, DescriptorSetLayout, Limit, Resource, VertexAttribute,
+    vk, Binding, Buffer, BufferDesc, Capabilities, Context, DescriptorSet, DescriptorSetLayout, Limit, Resource,
+    VertexAttribute,
 };
 
 /// Interleaved vertex: position then normal.
@@ -109,15 +110,60 @@ impl SceneGeometry {
     }
 }
 
+/// The per-frame buffers — frame uniforms, objects, lights, shadow views — host-visible and
+/// kept from frame to frame with their descriptor set: rewritten in place every frame (the
+/// renderer waits for each frame's work, so nothing reads them any more) and reallocated only
+/// to grow. Shaders index them by push constants and instance ids, never by their length.
+pub(crate) struct FrameBuffers {
+    buffers: [Buffer; 4],
+    pub set: DescriptorSet,
+}
+
+impl FrameBuffers {
+    const NAMES: [&'static str; 4] = ["frame uniforms", "objects", "lights", "shadow views"];
+
+    /// `previous` rewritten with `data` where every buffer is large enough, new buffers and a
+    /// new set otherwise.
+    fn write(
+        ctx: &Context,
+        layout: &DescriptorSetLayout,
+        previous: Option<FrameBuffers>,
+        data: [&[u8]; 4],
+    ) -> RenderResult<Self> {
+        if let Some(mut f) =
+            previous.filter(|f| f.buffers.iter().zip(&data).all(|(b, d)| b.desc.size >= d.len() as u64))
+        {
+            for (b, d) in f.buffers.iter_mut().zip(data) {
+                b.write(0, d)?;
+            }
+            return Ok(f);
+        }
+        let ssbo = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let usages = [vk::BufferUsageFlags::UNIFORM_BUFFER, ssbo, ssbo, ssbo];
+        let mut made = Vec::with_capacity(4);
+        for ((name, usage), d) in Self::NAMES.into_iter().zip(usages).zip(data) {
+            let mut b = Buffer::new(ctx, name, BufferDesc::cpu_to_gpu(d.len() as u64, usage))?;
+            b.write(0, d)?;
+            made.push(b);
+        }
+        let buffers: [Buffer; 4] = made.try_into().map_err(|_| umbra_vk::VkError::InvalidDesc {
+            what: "frame buffers",
+            why: "four buffers were not made".into(),
+        })?;
+        let resources = buffers.each_ref().map(Resource::Buffer);
+        let set = DescriptorSet::new(ctx, "scene set", layout, &resources)?;
+        Ok(Self { buffers, set })
+    }
+}
+
 /// The scene's GPU buffers and descriptor set.
 pub(crate) struct GpuScene {
     /// The meshes (shared with the frames before, while unchanged).
     pub geometry: Arc<SceneGeometry>,
     /// Bytes of mesh data this frame uploaded (0 when the geometry was reused).
     pub geometry_uploaded: u64,
-    /// Held for the descriptor set's lifetime.
-    _buffers: [Buffer; 4],
-    pub set: DescriptorSet,
+    /// Camera, objects, lights and shadow views, with the scene descriptor set.
+    pub frame: FrameBuffers,
 }
 
 /// The set-0 layout every forward pass uses.
@@ -198,7 +244,8 @@ pub(crate) fn check_limits(caps: &Capabilities, counts: SceneCounts) -> RenderRe
 impl GpuScene {
     /// Uploads `scene` as seen by `camera` with `aspect` (width / height), with each light's shadow-map
     /// parameters (`shadows[i]` for light `i`) and every shadow view-projection. The meshes are
-    /// uploaded only when `previous` does not hold them as they are now.
+    /// uploaded only when `previous` does not hold them as they are now, and `previous`'s
+    /// per-frame buffers are rewritten where they are large enough.
     #[allow(clippy::too_many_arguments)]
     pub fn upload(
         ctx: &Context,
@@ -208,11 +255,15 @@ impl GpuScene {
         aspect: f32,
         shadows: &[GpuShadow],
         shadow_views: &[Mat4],
-        previous: Option<&Arc<SceneGeometry>>,
+        previous: Option<GpuScene>,
     ) -> RenderResult<Self> {
         scene.validate()?;
         check_limits(ctx.capabilities(), SceneCounts::of(scene, shadow_views.len()))?;
-        let reused = previous.filter(|g| g.holds(scene)).cloned();
+        let (previous_geometry, previous_frame) = match previous {
+            Some(p) => (Some(p.geometry), Some(p.frame)),
+            None => (None, None),
+        };
+        let reused = previous_geometry.filter(|g| g.holds(scene));
         let packed = if reused.is_none() { Some(pack_meshes(&scene.meshes)) } else { None };
 
         let c = camera;
@@ -253,56 +304,42 @@ impl GpuScene {
             })
             .collect();
         let views: Vec<[f32; 16]> = shadow_views.iter().map(Mat4::to_cols_array).collect();
-        let ssbo = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let mut uploads = vec![
-            ("frame uniforms", vk::BufferUsageFlags::UNIFORM_BUFFER, bytemuck::bytes_of(&frame)),
-            ("objects", ssbo, nonempty(bytemuck::cast_slice(&objects))),
-            ("lights", ssbo, nonempty(bytemuck::cast_slice(&lights))),
-            ("shadow views", ssbo, nonempty(bytemuck::cast_slice(&views))),
+        let data = [
+            bytemuck::bytes_of(&frame),
+            nonempty(bytemuck::cast_slice(&objects)),
+            nonempty(bytemuck::cast_slice(&lights)),
+            nonempty(bytemuck::cast_slice(&views)),
         ];
-        if let Some((vertices, indices, _)) = &packed {
-            uploads.push((
-                "scene vertices",
-                vk::BufferUsageFlags::VERTEX_BUFFER,
-                nonempty(bytemuck::cast_slice(vertices)),
-            ));
-            uploads.push((
-                "scene indices",
-                vk::BufferUsageFlags::INDEX_BUFFER,
-                nonempty(bytemuck::cast_slice(indices)),
-            ));
-        }
-        // One submission for every buffer of the frame.
-        let mut uploaded = Buffer::upload_many(ctx, &uploads)?.into_iter();
-        let mut next = || {
-            uploaded.next().ok_or(umbra_vk::VkError::InvalidDesc {
-                what: "scene upload",
-                why: "upload_many returned fewer buffers than asked for".into(),
-            })
-        };
-        let (frame, objects, lights, views) = (next()?, next()?, next()?, next()?);
+        let frame = FrameBuffers::write(ctx, layout, previous_frame, data)?;
         let (geometry, geometry_uploaded) = match (reused, packed) {
             (Some(g), _) => (g, 0),
             (None, packed) => {
-                let (_, _, meshes) = packed.unwrap_or_default();
-                let (vertices, indices) = (next()?, next()?);
+                let (vertices, indices, meshes) = packed.unwrap_or_default();
+                // One submission for both buffers.
+                let mut uploaded = Buffer::upload_many(
+                    ctx,
+                    &[
+                        (
+                            "scene vertices",
+                            vk::BufferUsageFlags::VERTEX_BUFFER,
+                            nonempty(bytemuck::cast_slice(&vertices)),
+                        ),
+                        ("scene indices", vk::BufferUsageFlags::INDEX_BUFFER, nonempty(bytemuck::cast_slice(&indices))),
+                    ],
+                )?
+                .into_iter();
+                let missing = || umbra_vk::VkError::InvalidDesc {
+                    what: "scene upload",
+                    why: "upload_many returned fewer buffers than asked for".into(),
+                };
+                let vertices = uploaded.next().ok_or_else(missing)?;
+                let indices = uploaded.next().ok_or_else(missing)?;
                 let bytes = vertices.desc.size + indices.desc.size;
                 let revisions = scene.meshes.iter().map(|m| m.revision()).collect();
                 (Arc::new(SceneGeometry { vertices, indices, meshes, revisions }), bytes)
             }
         };
-        let set = DescriptorSet::new(
-            ctx,
-            "scene set",
-            layout,
-            &[
-                Resource::Buffer(&frame),
-                Resource::Buffer(&objects),
-                Resource::Buffer(&lights),
-                Resource::Buffer(&views),
-            ],
-        )?;
-        Ok(Self { geometry, geometry_uploaded, _buffers: [frame, objects, lights, views], set })
+        Ok(Self { geometry, geometry_uploaded, frame })
     }
 }
 

@@ -23,7 +23,7 @@ use crate::diagnostics::SilhouetteMapImage;
 use crate::diagnostics::{self, ClassReadback, DiagnosticTargets, GBuffer, LightDiagnostics, PixelClass};
 use crate::forward::{Forward, PassBounds};
 use crate::gbuffer::{self, GBufferPass};
-use crate::gpu_scene::{self, GpuScene, GpuShadow, SceneCounts, SceneGeometry};
+use crate::gpu_scene::{self, GpuScene, GpuShadow, SceneCounts};
 use crate::hybrid::cull;
 use crate::hybrid::pass::{self as hybrid_pass, HybridLight, HybridPass};
 use crate::hybrid::{HybridSettings, MaskKind, DEPTH_BOUNDS_EPSILON};
@@ -43,7 +43,6 @@ use crate::silhouette_map::pass::SilhouetteMapPass;
 use crate::timing::{PassLog, PassTimer};
 use crate::{RenderError, RenderResult};
 use std::path::Path;
-use std::sync::Arc;
 use std::time::Instant;
 use umbra_scene::{Scene, Technique};
 use umbra_vk::{
@@ -175,8 +174,9 @@ pub struct Renderer {
     diagnostic_targets: Option<DiagnosticTargets>,
     /// Welded connectivity per mesh, kept while the mesh keeps its revision.
     meshes: MeshCache,
-    /// The meshes on the GPU, reused while every mesh keeps its revision.
-    geometry: Option<Arc<SceneGeometry>>,
+    /// The scene on the GPU from the frame before: its meshes, reused while every mesh keeps
+    /// its revision, and its per-frame buffers, rewritten in place.
+    gpu: Option<GpuScene>,
     /// Volume overdraw target and its readback (with `shadow_volume.overdraw`).
     overdraw: Option<(Image, Buffer)>,
     /// The G-buffer pass (with `gbuffer`).
@@ -261,7 +261,7 @@ impl Renderer {
             mask,
             diagnostic_targets,
             meshes: MeshCache::default(),
-            geometry: None,
+            gpu: None,
             overdraw,
             gbuffer,
             submissions: 0,
@@ -287,6 +287,7 @@ impl Renderer {
     /// Renders one frame of `scene` and reads it back.
     pub fn render(&mut self, scene: &Scene) -> RenderResult<Frame> {
         let started = Instant::now();
+        let allocations_before = self.ctx.memory_allocations();
         // A typed error, before any GPU work, for non-finite or out-of-range input, and for
         // more objects or lights than the device's buffers can bind.
         scene.validate()?;
@@ -510,9 +511,8 @@ impl Renderer {
             aspect,
             &gpu_shadows,
             &shadow_views,
-            self.geometry.as_ref(),
+            self.gpu.take(),
         )?;
-        self.geometry = Some(Arc::clone(&gpu.geometry));
         let geometry_uploaded_bytes = gpu.geometry_uploaded;
         let shadow_sets = lights
             .iter()
@@ -882,6 +882,8 @@ impl Renderer {
         timer.end(&mut rec, &log);
         self.submissions += 1;
         self.ctx.submit_and_wait(rec)?;
+        // Kept for the next frame: its meshes and per-frame buffers are reused.
+        self.gpu = Some(gpu);
 
         let passes = timer.finish(log)?;
         let rgba = self.readback.read()?;
@@ -976,6 +978,7 @@ impl Renderer {
             passes,
             cpu_frame_ms: started.elapsed().as_secs_f64() * 1e3,
             geometry_uploaded_bytes,
+            memory_allocations: self.ctx.memory_allocations() - allocations_before,
         };
         Ok(Frame { width: self.desc.width, height: self.desc.height, rgba, report, overdraw, diagnostics, gbuffer })
     }

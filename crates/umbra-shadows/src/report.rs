@@ -207,6 +207,9 @@ pub struct FrameReport {
     /// Bytes of mesh data (vertices and indices) uploaded for this frame: 0 when every mesh
     /// kept its revision since the frame before ([`umbra_scene::Mesh::touch`]).
     pub geometry_uploaded_bytes: u64,
+    /// Device-memory allocations (buffers and images) the renderer made for this frame
+    /// ([`umbra_vk::Context::memory_allocations`] across `render`).
+    pub memory_allocations: u64,
 }
 
 impl FrameReport {

@@ -108,6 +108,8 @@ pub(crate) struct Inner {
     pub(crate) command_pool: Mutex<vk::CommandPool>,
     debug: Option<DebugUtils>,
     counter: Arc<ValidationCounter>,
+    /// Memory allocations made for buffers and images so far.
+    allocations: std::sync::atomic::AtomicU64,
     owns_device: bool,
     pub(crate) presentation: bool,
 }
@@ -254,6 +256,7 @@ impl Context {
                 command_pool: Mutex::new(pool),
                 debug: a.debug,
                 counter: a.counter,
+                allocations: std::sync::atomic::AtomicU64::new(0),
                 owns_device: a.owns_device,
                 presentation: a.presentation,
             }),
@@ -319,6 +322,16 @@ impl Context {
 
     pub(crate) fn debug_device(&self) -> Option<&ash::ext::debug_utils::Device> {
         self.inner.debug.as_ref().map(|d| &d.device)
+    }
+
+    /// How many device-memory allocations umbra made through this context so far (one per
+    /// buffer or image it created): the difference across a frame is what the frame allocated.
+    pub fn memory_allocations(&self) -> u64 {
+        self.inner.allocations.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
+    pub(crate) fn count_allocation(&self) {
+        self.inner.allocations.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     }
 
     pub(crate) fn allocator(&self) -> VkResult<MutexGuard<'_, Allocator>> {

@@ -50,9 +50,12 @@ pub(crate) fn allocate(
         linear,
         allocation_scheme: AllocationScheme::GpuAllocatorManaged,
     };
-    ctx.allocator()?.allocate(&desc).map_err(|source| VkError::Allocation {
+    let allocation = ctx.allocator()?.allocate(&desc).map_err(|source| VkError::Allocation {
         name: name.to_owned(),
         bytes: requirements.size,
         source,
-    })
+    })?;
+    ctx.count_allocation();
+    log::trace!("allocated {} for {name:?}", human_bytes(requirements.size));
+    Ok(allocation)
 }

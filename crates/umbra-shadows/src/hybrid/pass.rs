@@ -250,7 +250,7 @@ impl HybridPass {
         let depth = DepthAttachment { image: map, view: None, clear: None, clear_stencil: None, read_only: true };
         rec.begin_rendering(&RenderTargets { color: &[], depth: Some(depth) });
         rec.bind_pipeline(&self.boxes);
-        rec.bind_descriptor_set(layout, 0, &gpu.set);
+        rec.bind_descriptor_set(layout, 0, &gpu.frame.set);
         rec.bind_vertex_buffer(vertices);
         rec.push_constants(layout, &DrawPush { object: 0, view });
         for (i, b) in boxes.enumerate() {

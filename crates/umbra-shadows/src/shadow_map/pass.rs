@@ -214,7 +214,7 @@ impl ShadowMapPass {
             });
             rec.bind_pipeline(&self.pipeline);
             rec.set_depth_bias(self.settings.bias.constant, bias_clamp, self.settings.effective_slope());
-            rec.bind_descriptor_set(layout, 0, &gpu.set);
+            rec.bind_descriptor_set(layout, 0, &gpu.frame.set);
             rec.bind_vertex_buffer(&gpu.geometry.vertices);
             rec.bind_index_buffer(&gpu.geometry.indices);
             for &object in views.casters_of(layer) {

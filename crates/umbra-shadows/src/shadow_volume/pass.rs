@@ -54,7 +54,7 @@ pub(crate) struct VolumeBindings<'a> {
 impl<'a> VolumeBindings<'a> {
     /// Binds the scene set and the volume vertices.
     pub fn bind(&self, rec: &mut Recorder<'a>) {
-        rec.bind_descriptor_set(self.layout, 0, &self.gpu.set);
+        rec.bind_descriptor_set(self.layout, 0, &self.gpu.frame.set);
         rec.bind_vertex_buffer(self.vertices);
     }
 

@@ -155,7 +155,7 @@ impl SilhouetteMapPass {
         rec.begin_rendering(&RenderTargets { color: &color, depth: None });
         if let (Some(buffer), true) = (instances, edges.count > 0) {
             rec.bind_pipeline(&self.points);
-            rec.bind_descriptor_set(layout, 0, &gpu.set);
+            rec.bind_descriptor_set(layout, 0, &gpu.frame.set);
             rec.bind_descriptor_set(layout, 1, depth_set);
             rec.bind_vertex_buffer(buffer);
             rec.push_constants(layout, &DrawPush { object: 0, view: light as u32 });
