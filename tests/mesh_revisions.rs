@@ -121,6 +121,7 @@ fn the_report_counts_the_memory_allocations_of_a_frame() {
         let frames: Vec<u64> = (0..4).map(|_| renderer.render(&s).expect("frame").report.memory_allocations).collect();
         println!("memory allocations per frame: {frames:?}");
         assert!(frames[0] > frames[3], "a warm frame allocates less than the first: {frames:?}");
+        assert_eq!(frames[3], 0, "a warm frame of an unchanged scene allocates nothing: {frames:?}");
         assert!(frames[1..].windows(2).all(|w| w[0] == w[1]), "warm frames allocate alike: {frames:?}");
     });
 }

@@ -26,6 +26,7 @@ mod report;
 pub mod shadow_map;
 pub mod shadow_volume;
 pub mod silhouette_map;
+mod streams;
 mod timing;
 
 pub use budget::{ShadowStorage, DEFAULT_SHADOW_MAP_BUDGET};

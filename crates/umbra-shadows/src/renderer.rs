@@ -40,6 +40,7 @@ use crate::shadow_volume::VolumeMode;
 use crate::shadow_volume::{FarPlane, ShadowVolumeSettings};
 use crate::silhouette_map::edges::{self, EdgeInstance, LightEdges};
 use crate::silhouette_map::pass::SilhouetteMapPass;
+use crate::streams::Streams;
 use crate::timing::{PassLog, PassTimer};
 use crate::{RenderError, RenderResult};
 use std::path::Path;
@@ -177,6 +178,8 @@ pub struct Renderer {
     /// The scene on the GPU from the frame before: its meshes, reused while every mesh keeps
     /// its revision, and its per-frame buffers, rewritten in place.
     gpu: Option<GpuScene>,
+    /// Per-frame vertex data (edges, volumes, blocker boxes), kept between frames.
+    streams: Streams,
     /// Volume overdraw target and its readback (with `shadow_volume.overdraw`).
     overdraw: Option<(Image, Buffer)>,
     /// The G-buffer pass (with `gbuffer`).
@@ -262,6 +265,7 @@ impl Renderer {
             diagnostic_targets,
             meshes: MeshCache::default(),
             gpu: None,
+            streams: Streams::default(),
             overdraw,
             gbuffer,
             submissions: 0,
@@ -326,6 +330,8 @@ impl Renderer {
         // Welded connectivity of every mesh (cached): volumes and silhouette maps use it, and
         // the report lists every mesh's topology.
         let adjacency = self.meshes.adjacency(scene)?;
+        // The vertex streams, back in `self` once the frame's work is done.
+        let mut streams = std::mem::take(&mut self.streams);
 
         // Shadow maps (also the depth maps of silhouette maps): fit each light's views, size
         // its map, and note what the GPU reads.
@@ -435,7 +441,7 @@ impl Renderer {
             }
             shadow_views.extend_from_slice(&views.views);
         }
-        let edge_buffer = vertex_buffer(&self.ctx, "silhouette edges", &edge_instances)?;
+        let edge_buffer = streams.edges.fill(&self.ctx, &edge_instances)?;
         // Shadow volumes: every caster's volume per light, built on the CPU (z-fail only for
         // hybrid lights, Chan–Durand §3 step 3; none for a hybrid light without a map).
         let mut built: Vec<Option<LightVolumes>> = vec![None; scene.lights.len()];
@@ -459,7 +465,7 @@ impl Renderer {
             );
             built[plan.light] = Some(v);
         }
-        let volume_buffer = vertex_buffer(&self.ctx, "shadow volume vertices", &volume_vertices)?;
+        let volume_buffer = streams.volumes.fill(&self.ctx, &volume_vertices)?;
         // Hybrid lights: their queries (mask samples, masked volume fragments) and, with
         // blocker culling, one box per caster of a 2D map.
         let hybrids: Vec<usize> = lights
@@ -484,7 +490,7 @@ impl Renderer {
                 }
             }
         }
-        let culling_buffer = vertex_buffer(&self.ctx, "blocker boxes", &culling.vertices)?;
+        let culling_buffer = streams.blockers.fill(&self.ctx, &culling.vertices)?;
         let culling_queries = match culling.boxes.len() as u32 {
             0 => None,
             n => Some(QueryPool::new(&self.ctx, "blocker culling", QueryKind::Occlusion, n)?),
@@ -632,7 +638,7 @@ impl Renderer {
                     &gpu,
                     depth_set,
                     plan.light,
-                    edge_buffer.as_ref(),
+                    edge_buffer,
                     e,
                     &mut log,
                 )?;
@@ -720,7 +726,7 @@ impl Renderer {
         // Whether the classification target was used this frame (it is then in TransferSrc).
         let mut classification_used = false;
         for (plan, shadow_set) in lights.iter().filter(|l| l.recorded).zip(&shadow_sets) {
-            let volumes = built[plan.light].as_ref().zip(volume_buffer.as_ref());
+            let volumes = built[plan.light].as_ref().zip(volume_buffer);
             if let Some(h) = hybrids.iter().position(|&l| l == plan.light) {
                 let (Some(v), Some(queries)) = (&built[plan.light], &hybrid_queries) else { continue };
                 let light = HybridLight {
@@ -734,7 +740,7 @@ impl Renderer {
                     color: &self.color,
                     depth: &self.depth,
                     volumes: v,
-                    vertices: volume_buffer.as_ref(),
+                    vertices: volume_buffer,
                     zfail: self.shadow_volume.zfail(),
                     queries,
                     first_query: h as u32,
@@ -882,8 +888,9 @@ impl Renderer {
         timer.end(&mut rec, &log);
         self.submissions += 1;
         self.ctx.submit_and_wait(rec)?;
-        // Kept for the next frame: its meshes and per-frame buffers are reused.
+        // Kept for the next frame: its meshes, per-frame buffers and vertex streams are reused.
         self.gpu = Some(gpu);
+        self.streams = streams;
 
         let passes = timer.finish(log)?;
         let rgba = self.readback.read()?;
@@ -982,14 +989,6 @@ impl Renderer {
         };
         Ok(Frame { width: self.desc.width, height: self.desc.height, rgba, report, overdraw, diagnostics, gbuffer })
     }
-}
-
-/// A vertex buffer holding `data`, or `None` when there is nothing to draw.
-fn vertex_buffer<T: bytemuck::Pod>(ctx: &Context, name: &str, data: &[T]) -> RenderResult<Option<Buffer>> {
-    if data.is_empty() {
-        return Ok(None);
-    }
-    Ok(Some(Buffer::with_data(ctx, name, vk::BufferUsageFlags::VERTEX_BUFFER, bytemuck::cast_slice(data))?))
 }
 
 /// A frame-sized RGBA8 image rendered to and copied out (colour, overdraw, diagnostic views).
