@@ -180,6 +180,8 @@ pub struct Renderer {
     gpu: Option<GpuScene>,
     /// Per-frame vertex data (edges, volumes, blocker boxes), kept between frames.
     streams: Streams,
+    /// The pass timer (its timestamp pool), kept between frames.
+    timer: Option<PassTimer>,
     /// Volume overdraw target and its readback (with `shadow_volume.overdraw`).
     overdraw: Option<(Image, Buffer)>,
     /// The G-buffer pass (with `gbuffer`).
@@ -266,6 +268,7 @@ impl Renderer {
             meshes: MeshCache::default(),
             gpu: None,
             streams: Streams::default(),
+            timer: None,
             overdraw,
             gbuffer,
             submissions: 0,
@@ -603,7 +606,7 @@ impl Renderer {
             (Some(_), n) if n > 0 => Some(QueryPool::new(&self.ctx, "volume fragments", QueryKind::Occlusion, n)?),
             _ => None,
         };
-        let timer = PassTimer::new(&self.ctx, passes)?;
+        let timer = PassTimer::new(&self.ctx, passes, self.timer.take())?;
         let mut log = PassLog::default();
         let mut rec = self.ctx.begin_commands("frame")?;
         timer.reset(&mut rec);
@@ -893,6 +896,7 @@ impl Renderer {
         self.streams = streams;
 
         let passes = timer.finish(log)?;
+        self.timer = Some(timer);
         let rgba = self.readback.read()?;
         let overdraw = match (&self.overdraw, overdraw_query > 0) {
             (Some((_, readback)), true) => Some(readback.read()?),

@@ -43,14 +43,18 @@ pub(crate) struct PassTimer {
 }
 
 impl PassTimer {
-    /// A timer for at most `max_passes` passes; without timestamps it only labels.
-    pub fn new(ctx: &umbra_vk::Context, max_passes: usize) -> umbra_vk::VkResult<Self> {
-        let pool = if ctx.capabilities().timestamps {
-            Some(QueryPool::new(ctx, "pass timestamps", QueryKind::Timestamp, 2 * max_passes.max(1) as u32)?)
-        } else {
-            None
-        };
-        Ok(Self { pool })
+    /// A timer for at most `max_passes` passes, reusing `previous`'s query pool when it holds
+    /// enough timestamps (a frame's timer is kept for the next); without timestamps it only
+    /// labels.
+    pub fn new(ctx: &umbra_vk::Context, max_passes: usize, previous: Option<Self>) -> umbra_vk::VkResult<Self> {
+        if !ctx.capabilities().timestamps {
+            return Ok(Self { pool: None });
+        }
+        let needed = 2 * max_passes.max(1) as u32;
+        match previous.and_then(|p| p.pool).filter(|p| p.count >= needed) {
+            Some(pool) => Ok(Self { pool: Some(pool) }),
+            None => Ok(Self { pool: Some(QueryPool::new(ctx, "pass timestamps", QueryKind::Timestamp, needed)?) }),
+        }
     }
 
     /// Resets the queries; record once before the first pass.
