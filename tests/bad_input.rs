@@ -23,6 +23,12 @@ fn corpus() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/bad-input")
 }
 
+/// `expected.toml`: file name → its case.
+fn manifest() -> BTreeMap<String, Case> {
+    let text = std::fs::read_to_string(corpus().join("expected.toml")).expect("tests/bad-input/expected.toml");
+    toml::from_str(&text).expect("expected.toml parses")
+}
+
 /// `load`'s answer for `path`: `Ok(None)` for a scene, `Ok(Some(message))` for an error, `Err`
 /// for a panic.
 fn outcome(path: &Path) -> Result<Option<String>, String> {
@@ -33,8 +39,7 @@ fn outcome(path: &Path) -> Result<Option<String>, String> {
 
 #[test]
 fn every_file_in_the_bad_input_corpus_gets_its_expected_answer() {
-    let manifest = std::fs::read_to_string(corpus().join("expected.toml")).expect("tests/bad-input/expected.toml");
-    let cases: BTreeMap<String, Case> = toml::from_str(&manifest).expect("expected.toml parses");
+    let cases = manifest();
     let mut failures = Vec::new();
     let mut files: Vec<PathBuf> =
         std::fs::read_dir(corpus()).expect("corpus folder").map(|e| e.unwrap().path()).collect();
@@ -117,8 +122,7 @@ fn the_near_plane_bound_is_where_hard_case_07_is_measured_exact() {
 fn the_input_document_lists_every_corpus_file() {
     let doc = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs/input.md"))
         .expect("docs/input.md");
-    let manifest = std::fs::read_to_string(corpus().join("expected.toml")).expect("expected.toml");
-    let cases: BTreeMap<String, Case> = toml::from_str(&manifest).expect("expected.toml parses");
+    let cases = manifest();
     let missing: Vec<_> = cases.keys().filter(|f| !doc.contains(&format!("`{f}`"))).collect();
     assert!(missing.is_empty(), "docs/input.md does not list {missing:?}");
 }
@@ -127,8 +131,7 @@ fn the_input_document_lists_every_corpus_file() {
 /// the validation layer silent.
 #[test]
 fn corpus_files_that_load_render_validation_clean() {
-    let manifest = std::fs::read_to_string(corpus().join("expected.toml")).expect("expected.toml");
-    let cases: BTreeMap<String, Case> = toml::from_str(&manifest).expect("expected.toml parses");
+    let cases = manifest();
     let loading: Vec<_> = cases.iter().filter(|(_, c)| c.error.is_none()).map(|(f, _)| f.clone()).collect();
     assert!(!loading.is_empty(), "the corpus has files that must load");
     common::with_context(|ctx| {

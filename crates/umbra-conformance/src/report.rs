@@ -16,11 +16,6 @@ pub fn cell(v: &Verdict) -> &'static str {
     }
 }
 
-/// Short column name of a technique ([`Technique::column`]).
-pub fn short(t: Technique) -> &'static str {
-    t.column()
-}
-
 /// The table of cases × techniques × devices, then per case its reason, picture and every
 /// non-pass verdict's detail. `devices` pairs a device name with its runs (same case order);
 /// `images` is the pictures' folder relative to the page.
@@ -30,7 +25,7 @@ pub fn markdown(devices: &[(String, Vec<CaseRun>)], images: &str) -> String {
     let _ = write!(md, "| # | case |");
     for (d, _) in devices {
         for t in TECHNIQUES {
-            let _ = write!(md, " {} ({}) |", short(t), d);
+            let _ = write!(md, " {} ({}) |", t.column(), d);
         }
     }
     md.push_str("\n|---|---|");
@@ -78,7 +73,7 @@ pub fn markdown(devices: &[(String, Vec<CaseRun>)], images: &str) -> String {
                     let _ = writeln!(
                         md,
                         "- {} on {d}: {}{}{}",
-                        short(t.technique),
+                        t.technique.column(),
                         cell(&t.verdict),
                         detail.map(|s| format!(" — {s}")).unwrap_or_default(),
                         if notes.is_empty() { String::new() } else { format!(" ({notes})") }

@@ -93,7 +93,11 @@ impl Scene {
     /// bounding sphere's far side); 0 for an empty scene. [`Camera::validate`] bounds `near`
     /// by it.
     pub fn camera_reach(&self) -> f32 {
-        let b = self.bounds();
+        self.reach_of(self.bounds())
+    }
+
+    /// [`Scene::camera_reach`] for the scene bounds `b`, already computed.
+    fn reach_of(&self, b: Aabb) -> f32 {
         if b.is_empty() {
             0.0
         } else {
@@ -175,6 +179,8 @@ impl Scene {
             let (value, limit) = (self.objects.len() as u64, crate::limits::MAX_OBJECTS as u64);
             return Err(crate::SceneError::Limit { what: "objects".into(), value, limit });
         }
+        // The scene's bounds, gathered on the way (the camera check needs them).
+        let mut bounds = Aabb::EMPTY;
         for (i, o) in self.objects.iter().enumerate() {
             let what = || format!("object {i} ({:?})", o.name);
             let Some(mesh) = self.meshes.get(o.mesh) else {
@@ -192,6 +198,7 @@ impl Scene {
                     format!("reaches {reach:e} in world space, beyond ±{:e}", crate::MAX_COORDINATE),
                 );
             }
+            bounds = bounds.union(b);
         }
         if self.lights.len() > crate::limits::MAX_LIGHTS {
             let (value, limit) = (self.lights.len() as u64, crate::limits::MAX_LIGHTS as u64);
@@ -206,7 +213,7 @@ impl Scene {
                 return invalid(what.into(), format!("{c} must be finite and ≥ 0"));
             }
         }
-        self.camera.validate(self.camera_reach()).or_else(|why| invalid("camera".into(), why))?;
+        self.camera.validate(self.reach_of(bounds)).or_else(|why| invalid("camera".into(), why))?;
         Ok(())
     }
 }

@@ -2,14 +2,14 @@
 //! light storage buffers, the frame uniforms, and the descriptor set that binds them.
 //! Layouts mirror `shaders-glsl/common/scene.glsl`.
 
+use crate::streams::Stream;
 use crate::{RenderError, RenderResult};
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 use std::sync::Arc;
 use umbra_scene::{Mesh, Scene};
 use umbra_vk::{
-    vk, Binding, Buffer, BufferDesc, Capabilities, Context, DescriptorSet, DescriptorSetLayout, Limit, Resource,
-    VertexAttribute,
+    vk, Binding, Buffer, Capabilities, Context, DescriptorSet, DescriptorSetLayout, Limit, Resource, VertexAttribute,
 };
 
 /// Interleaved vertex: position then normal.
@@ -110,49 +110,54 @@ impl SceneGeometry {
     }
 }
 
-/// The per-frame buffers — frame uniforms, objects, lights, shadow views — host-visible and
-/// kept from frame to frame with their descriptor set: rewritten in place every frame (the
-/// renderer waits for each frame's work, so nothing reads them any more) and reallocated only
-/// to grow. Shaders index them by push constants and instance ids, never by their length.
+/// The per-frame buffers — frame uniforms, objects, lights, shadow views — as [`Stream`]s,
+/// with the descriptor set that binds them, made again only when a buffer was. Shaders index
+/// them by push constants and instance ids, never by their length.
 pub(crate) struct FrameBuffers {
-    buffers: [Buffer; 4],
+    streams: [Stream; 4],
+    /// The streams' generations the set was made for.
+    generations: [u64; 4],
     pub set: DescriptorSet,
 }
 
 impl FrameBuffers {
-    const NAMES: [&'static str; 4] = ["frame uniforms", "objects", "lights", "shadow views"];
-
-    /// `previous` rewritten with `data` where every buffer is large enough, new buffers and a
-    /// new set otherwise.
+    /// `previous`'s buffers (new ones where they are too small) holding `data`, with its set
+    /// when no buffer changed.
     fn write(
         ctx: &Context,
         layout: &DescriptorSetLayout,
         previous: Option<FrameBuffers>,
         data: [&[u8]; 4],
     ) -> RenderResult<Self> {
-        if let Some(mut f) =
-            previous.filter(|f| f.buffers.iter().zip(&data).all(|(b, d)| b.desc.size >= d.len() as u64))
-        {
-            for (b, d) in f.buffers.iter_mut().zip(data) {
-                b.write(0, d)?;
+        let (mut streams, old) = match previous {
+            Some(f) => (f.streams, Some((f.generations, f.set))),
+            None => {
+                let ssbo = vk::BufferUsageFlags::STORAGE_BUFFER;
+                let streams = [
+                    Stream::new("frame uniforms", vk::BufferUsageFlags::UNIFORM_BUFFER),
+                    Stream::new("objects", ssbo),
+                    Stream::new("lights", ssbo),
+                    Stream::new("shadow views", ssbo),
+                ];
+                (streams, None)
             }
-            return Ok(f);
+        };
+        for (stream, d) in streams.iter_mut().zip(data) {
+            stream.fill(ctx, d)?;
         }
-        let ssbo = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let usages = [vk::BufferUsageFlags::UNIFORM_BUFFER, ssbo, ssbo, ssbo];
-        let mut made = Vec::with_capacity(4);
-        for ((name, usage), d) in Self::NAMES.into_iter().zip(usages).zip(data) {
-            let mut b = Buffer::new(ctx, name, BufferDesc::cpu_to_gpu(d.len() as u64, usage))?;
-            b.write(0, d)?;
-            made.push(b);
-        }
-        let buffers: [Buffer; 4] = made.try_into().map_err(|_| umbra_vk::VkError::InvalidDesc {
-            what: "frame buffers",
-            why: "four buffers were not made".into(),
-        })?;
-        let resources = buffers.each_ref().map(Resource::Buffer);
-        let set = DescriptorSet::new(ctx, "scene set", layout, &resources)?;
-        Ok(Self { buffers, set })
+        let generations = streams.each_ref().map(Stream::generation);
+        let set = match old {
+            Some((made_for, set)) if made_for == generations => set,
+            _ => {
+                let resources: Option<Vec<_>> = streams.iter().map(|s| s.buffer().map(Resource::Buffer)).collect();
+                let resources = resources.ok_or(umbra_vk::VkError::InvalidDesc {
+                    what: "scene set",
+                    why: "a per-frame buffer was empty".into(),
+                })?;
+                DescriptorSet::new(ctx, "scene set", layout, &resources)?
+            }
+        };
+        Ok(Self { streams, generations, set })
     }
 }
 
@@ -257,7 +262,7 @@ impl GpuScene {
         shadow_views: &[Mat4],
         previous: Option<GpuScene>,
     ) -> RenderResult<Self> {
-        scene.validate()?;
+        // `scene` was validated by `Renderer::render`, which alone calls this.
         check_limits(ctx.capabilities(), SceneCounts::of(scene, shadow_views.len()))?;
         let (previous_geometry, previous_frame) = match previous {
             Some(p) => (Some(p.geometry), Some(p.frame)),

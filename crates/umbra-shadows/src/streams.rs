@@ -1,20 +1,35 @@
-//! Vertex data the CPU makes every frame — silhouette edges, shadow volumes, blocker boxes —
-//! in host-visible buffers kept from frame to frame: written in place (the renderer waits for
+//! Data the CPU makes every frame — the scene's per-frame buffers (camera, objects, lights,
+//! shadow views) and vertex data (silhouette edges, shadow volumes, blocker boxes) — in
+//! host-visible buffers kept from frame to frame: written in place (the renderer waits for
 //! each frame's work, so nothing reads them any more) and reallocated only to grow, so a warm
 //! frame neither allocates nor submits an upload for them.
 
 use crate::RenderResult;
 use umbra_vk::{vk, Buffer, BufferDesc, Context};
 
-/// One per-frame vertex stream.
+/// One per-frame buffer.
 pub(crate) struct Stream {
     name: &'static str,
+    usage: vk::BufferUsageFlags,
     buffer: Option<Buffer>,
+    /// Counts the buffer's reallocations (what was bound to the old one must be bound again).
+    generation: u64,
 }
 
 impl Stream {
-    const fn new(name: &'static str) -> Self {
-        Self { name, buffer: None }
+    /// An empty stream for buffers named `name` with `usage`.
+    pub const fn new(name: &'static str, usage: vk::BufferUsageFlags) -> Self {
+        Self { name, usage, buffer: None, generation: 0 }
+    }
+
+    /// The buffer filled last, if any.
+    pub fn buffer(&self) -> Option<&Buffer> {
+        self.buffer.as_ref()
+    }
+
+    /// Changes whenever [`Stream::fill`] had to make a new buffer.
+    pub fn generation(&self) -> u64 {
+        self.generation
     }
 
     /// Writes `data` into the stream's buffer (a larger one first if it does not fit) and
@@ -27,11 +42,10 @@ impl Stream {
         let buffer = match self.buffer.take() {
             Some(b) if b.desc.size >= bytes.len() as u64 => b,
             // The old one (if any) is freed before the larger one is made.
-            _ => Buffer::new(
-                ctx,
-                self.name,
-                BufferDesc::cpu_to_gpu(bytes.len() as u64, vk::BufferUsageFlags::VERTEX_BUFFER),
-            )?,
+            _ => {
+                self.generation += 1;
+                Buffer::new(ctx, self.name, BufferDesc::cpu_to_gpu(bytes.len() as u64, self.usage))?
+            }
         };
         let buffer = self.buffer.insert(buffer);
         buffer.write(0, bytes)?;
@@ -51,10 +65,11 @@ pub(crate) struct Streams {
 
 impl Default for Streams {
     fn default() -> Self {
+        let vertices = vk::BufferUsageFlags::VERTEX_BUFFER;
         Self {
-            edges: Stream::new("silhouette edges"),
-            volumes: Stream::new("shadow volume vertices"),
-            blockers: Stream::new("blocker boxes"),
+            edges: Stream::new("silhouette edges", vertices),
+            volumes: Stream::new("shadow volume vertices", vertices),
+            blockers: Stream::new("blocker boxes", vertices),
         }
     }
 }

@@ -151,10 +151,9 @@ impl ShadowMapPass {
         Ok(crate::budget::image_bytes(resolution, desc.layers, MAP_TEXEL_BYTES))
     }
 
-    /// Makes sure light `light` has a map of `resolution` and `kind`, (re)creating it if not
-    /// (after [`Self::check`]).
+    /// Makes sure light `light` has a map of `resolution` and `kind`, (re)creating it if not;
+    /// a new map is checked first ([`Self::check`]), a kept one was when it was made.
     pub fn prepare(&mut self, ctx: &Context, light: usize, resolution: u32, kind: MapKind) -> RenderResult<()> {
-        self.check(ctx, light, resolution, kind)?;
         if self.targets.len() <= light {
             self.targets.resize_with(light + 1, || None);
         }
@@ -164,6 +163,7 @@ impl ShadowMapPass {
         if fits {
             return Ok(());
         }
+        self.check(ctx, light, resolution, kind)?;
         self.targets[light] = None;
         let name = format!("shadow map light {light}");
         let image = Image::new(ctx, &name, map_desc(resolution, kind))?;

@@ -105,15 +105,16 @@ impl SilhouetteMapPass {
         Ok(crate::budget::image_bytes(resolution, 1, 8))
     }
 
-    /// Makes sure light `light` has a `resolution`² silhouette map (after [`Self::check`]).
+    /// Makes sure light `light` has a `resolution`² silhouette map; a new map is checked
+    /// first ([`Self::check`]), a kept one was when it was made.
     pub fn prepare(&mut self, ctx: &Context, light: usize, resolution: u32) -> RenderResult<()> {
-        self.check(ctx, light, resolution)?;
         if self.targets.len() <= light {
             self.targets.resize_with(light + 1, || None);
         }
         if self.targets[light].as_ref().is_some_and(|t| t.desc.width == resolution) {
             return Ok(());
         }
+        self.check(ctx, light, resolution)?;
         self.targets[light] = None;
         self.targets[light] = Some(Image::new(ctx, &format!("silhouette map light {light}"), map_desc(resolution))?);
         Ok(())
