@@ -1,8 +1,8 @@
-//! The `umbra-bench` command line: `sweep`, `poster` and `hard-cases`.
+//! The `umbra-bench` command line: `sweep`, `poster`, `hard-cases` and `fingerprint`.
 
 use crate::record::{Record, Results, CSV_HEADER};
 use crate::sweep::{self, Plan};
-use crate::{hard_cases, plots, poster, scenes, summary, BenchError, BenchResult};
+use crate::{fingerprint, hard_cases, plots, poster, scenes, summary, BenchError, BenchResult};
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
@@ -25,6 +25,9 @@ enum Command {
     Poster(poster::PosterArgs),
     /// Run the hard-case conformance suite on several devices; write its table and pictures.
     HardCases(hard_cases::HardCasesArgs),
+    /// Print a hash of every frame's pixels, views and report (times left out) per scene,
+    /// technique and renderer variant: `diff` two runs to prove a refactor kept behaviour.
+    Fingerprint(fingerprint::FingerprintArgs),
 }
 
 #[derive(clap::Args, Debug)]
@@ -83,6 +86,7 @@ pub fn main() {
         Command::Sweep(args) => run_sweep(&args),
         Command::Poster(args) => poster::run_cli(&args),
         Command::HardCases(args) => hard_cases::run(&args),
+        Command::Fingerprint(args) => fingerprint::run(&args),
     };
     if let Err(e) = result {
         eprintln!("umbra-bench: {e}");

@@ -34,6 +34,7 @@
 
 pub mod cli;
 mod error;
+pub mod fingerprint;
 pub mod hard_cases;
 pub mod plots;
 pub mod poster;

@@ -1,0 +1,136 @@
+//! `umbra-bench fingerprint`: one line per configuration with a hash of everything a frame
+//! returns except its times — the pixels, the overdraw and diagnostic views, the G-buffer and
+//! the report with every `*_ms` field left out. Run it before and after a refactor that must
+//! not change behaviour and `diff` the two outputs: equal lines are the same images, bit for
+//! bit, and the same report fields.
+
+use crate::{scenes, BenchResult};
+use serde_json::Value;
+use std::fmt::Write as _;
+use umbra_scene::Technique;
+use umbra_shadows::{Frame, MaskKind, Renderer, RendererDesc, VolumeMode};
+
+/// Arguments of `umbra-bench fingerprint`.
+#[derive(clap::Args, Debug)]
+pub struct FingerprintArgs {
+    /// Scenes: procedural names, scene files or glTF paths.
+    #[arg(long, value_delimiter = ',', default_value = "cubes,cage,tree,pins,ball,plaza,suzanne.glb")]
+    scenes: Vec<String>,
+    /// Image size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "128x96", value_parser = crate::parse_size)]
+    size: (u32, u32),
+}
+
+/// The variants of the renderer every scene and technique is fingerprinted under.
+const VARIANTS: &[&str] = &["default", "views", "no-cull", "stencil-mask", "no-mask", "zpass", "culled", "spots"];
+
+/// Renders every scene × technique × variant (two frames each: the second, warm, is hashed) and
+/// prints `scene technique variant hash` lines, or the error a configuration gets.
+pub fn run(args: &FingerprintArgs) -> BenchResult<()> {
+    let ctx = umbra_vk::Context::new()?;
+    for name in &args.scenes {
+        for technique in Technique::ALL {
+            for &variant in VARIANTS {
+                let line = match fingerprint(&ctx, name, technique, variant, args.size) {
+                    Ok(hash) => format!("{hash:016x}"),
+                    Err(e) => format!("error: {e}"),
+                };
+                println!("{name} {} {variant} {line}", technique.name());
+            }
+        }
+    }
+    Ok(())
+}
+
+fn fingerprint(
+    ctx: &umbra_vk::Context,
+    name: &str,
+    technique: Technique,
+    variant: &str,
+    (width, height): (u32, u32),
+) -> BenchResult<u64> {
+    let mut scene = scenes::load(name, variant == "spots", (variant == "culled").then_some(6.0))?;
+    for light in &mut scene.lights {
+        light.technique = technique;
+    }
+    let mut desc = RendererDesc::new(width, height);
+    match variant {
+        "views" => {
+            desc.diagnostics = true;
+            desc.gbuffer = true;
+            desc.shadow_volume.overdraw = true;
+        }
+        "no-cull" => desc.cull = false,
+        "stencil-mask" => {
+            desc.hybrid.mask = Some(MaskKind::Stencil);
+            desc.hybrid.cull_blockers = true;
+            desc.diagnostics = true;
+        }
+        "no-mask" => {
+            desc.hybrid.mask = Some(MaskKind::None);
+            desc.shadow_volume.overdraw = true;
+        }
+        "zpass" => desc.shadow_volume.mode = VolumeMode::ZPass,
+        _ => {}
+    }
+    let mut renderer = Renderer::new(ctx, desc)?;
+    renderer.render(&scene)?;
+    let frame = renderer.render(&scene)?;
+    Ok(hash_frame(&frame))
+}
+
+/// FNV-1a over every field of `frame` but its times.
+fn hash_frame(frame: &Frame) -> u64 {
+    let mut h = Fnv::default();
+    h.bytes(&frame.rgba);
+    if let Some(o) = &frame.overdraw {
+        h.bytes(o);
+    }
+    for d in &frame.diagnostics {
+        let mut text = String::new();
+        let _ = write!(text, "{}", d.light);
+        h.bytes(text.as_bytes());
+        h.bytes(&d.classification);
+        for part in [&d.points, &d.stencil].into_iter().flatten() {
+            h.bytes(part);
+        }
+        if let Some(m) = &d.silhouette_map {
+            m.points.iter().flatten().for_each(|f| h.bytes(&f.to_le_bytes()));
+        }
+    }
+    if let Some(g) = &frame.gbuffer {
+        g.position.iter().chain(&g.normal).flatten().for_each(|f| h.bytes(&f.to_le_bytes()));
+    }
+    let mut report = serde_json::to_value(&frame.report).unwrap_or(Value::Null);
+    strip_times(&mut report);
+    h.bytes(report.to_string().as_bytes());
+    h.0
+}
+
+/// Removes every `*_ms` field (GPU and CPU times), recursively.
+fn strip_times(value: &mut Value) {
+    match value {
+        Value::Object(map) => {
+            map.retain(|k, _| !k.ends_with("_ms"));
+            map.values_mut().for_each(strip_times);
+        }
+        Value::Array(items) => items.iter_mut().for_each(strip_times),
+        _ => {}
+    }
+}
+
+struct Fnv(u64);
+
+impl Default for Fnv {
+    fn default() -> Self {
+        Self(0xcbf2_9ce4_8422_2325)
+    }
+}
+
+impl Fnv {
+    fn bytes(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 = (self.0 ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+}
