@@ -209,3 +209,43 @@ pub struct GBuffer {
     /// Unit geometric normal turned towards the camera (zero for a triangle seen edge-on); w = 0.
     pub normal: Vec<[f32; 4]>,
 }
+
+/// Host-visible copies of one light's diagnostic views and silhouette map.
+pub(crate) struct DiagnosticReadback {
+    pub classification: Buffer,
+    pub points: Buffer,
+    pub silhouette_map: Buffer,
+    resolution: u32,
+}
+
+impl DiagnosticReadback {
+    pub fn new(ctx: &Context, width: u32, height: u32, silhouette_map: &Image) -> RenderResult<Self> {
+        let frame = BufferDesc::readback(4 * u64::from(width) * u64::from(height));
+        let resolution = silhouette_map.desc.width;
+        let points = BufferDesc::readback(8 * u64::from(resolution) * u64::from(resolution));
+        Ok(Self {
+            classification: Buffer::new(ctx, "diagnostics readback: classification", frame)?,
+            points: Buffer::new(ctx, "diagnostics readback: silhouette points", frame)?,
+            silhouette_map: Buffer::new(ctx, "diagnostics readback: silhouette map", points)?,
+            resolution,
+        })
+    }
+
+    pub fn read(&self, light: usize) -> RenderResult<LightDiagnostics> {
+        let raw = self.silhouette_map.read()?;
+        let points = raw
+            .chunks_exact(8)
+            .map(|c| {
+                let f = |b: &[u8]| f32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+                [f(&c[..4]), f(&c[4..])]
+            })
+            .collect();
+        Ok(LightDiagnostics {
+            light,
+            classification: self.classification.read()?,
+            points: Some(self.points.read()?),
+            silhouette_map: Some(SilhouetteMapImage { resolution: self.resolution, points }),
+            stencil: None,
+        })
+    }
+}

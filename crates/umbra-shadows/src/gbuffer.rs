@@ -6,13 +6,13 @@
 
 use crate::diagnostics::GBuffer;
 use crate::forward::{self, surface_pass_desc};
+use crate::frame::{PassRecorder, Use};
 use crate::gpu_scene::GpuScene;
-use crate::timing::{PassLog, PassTimer};
 use crate::RenderResult;
 use umbra_scene::Scene;
 use umbra_vk::{
     vk, Buffer, BufferDesc, ColorAttachment, ColorTarget, Context, DepthAttachment, GraphicsPipeline, Image, ImageDesc,
-    ImageState, PipelineLayout, Recorder, RenderTargets,
+    ImageState, PipelineLayout, RenderTargets,
 };
 
 /// Both targets' format: 32-bit floats, so positions keep every bit the shader computed.
@@ -56,38 +56,37 @@ impl GBufferPass {
         })
     }
 
-    /// Records the `g-buffer` diagnostic pass over `depth` (in DepthStencilAttachment, left so).
-    #[allow(clippy::too_many_arguments)]
+    /// What the pass uses besides the frame's depth (in DepthStencilAttachment): both targets
+    /// as attachments and both readbacks.
+    pub fn uses(&self) -> [Use<'_>; 4] {
+        [
+            Use::Image(&self.position, ImageState::ColorAttachment),
+            Use::Image(&self.normal, ImageState::ColorAttachment),
+            Use::Readback(&self.position_readback),
+            Use::Readback(&self.normal_readback),
+        ]
+    }
+
+    /// Records the `g-buffer` diagnostic pass over `depth`, then copies both targets out.
     pub fn record<'a>(
         &'a self,
-        rec: &mut Recorder<'a>,
-        timer: &'a PassTimer,
-        log: &mut PassLog,
+        cx: &mut PassRecorder<'_, 'a>,
         layout: &'a PipelineLayout,
         gpu: &'a GpuScene,
         scene: &Scene,
         depth: &'a Image,
     ) {
-        timer.begin_diagnostic(rec, log, "g-buffer".into(), None);
         let (p, n) = (&self.position, &self.normal);
-        rec.transition(&[
-            (p, ImageState::Undefined, ImageState::ColorAttachment),
-            (n, ImageState::Undefined, ImageState::ColorAttachment),
-        ]);
         let color =
             [ColorAttachment { image: p, clear: Some([0.0; 4]) }, ColorAttachment { image: n, clear: Some([0.0; 4]) }];
         let depth = DepthAttachment { image: depth, view: None, clear: None, clear_stencil: None, read_only: false };
-        rec.begin_rendering(&RenderTargets { color: &color, depth: Some(depth) });
-        rec.bind_pipeline(&self.pipeline);
-        forward::draw_objects(rec, layout, gpu, scene, 0, log);
-        rec.end_rendering();
-        rec.transition(&[
-            (p, ImageState::ColorAttachment, ImageState::TransferSrc),
-            (n, ImageState::ColorAttachment, ImageState::TransferSrc),
-        ]);
-        rec.copy_image_to_buffer(p, 0, &self.position_readback);
-        rec.copy_image_to_buffer(n, 0, &self.normal_readback);
-        timer.end(rec, log);
+        cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(depth) });
+        cx.rec.bind_pipeline(&self.pipeline);
+        forward::draw_objects(cx.rec, layout, gpu, scene, 0, cx.log);
+        cx.rec.end_rendering();
+        cx.enter(&[(p, ImageState::TransferSrc), (n, ImageState::TransferSrc)]);
+        cx.rec.copy_image_to_buffer(p, 0, &self.position_readback);
+        cx.rec.copy_image_to_buffer(n, 0, &self.normal_readback);
     }
 
     /// The G-buffer of the last submitted frame that recorded this pass.

@@ -15,6 +15,7 @@ mod budget;
 pub mod diagnostics;
 mod error;
 mod forward;
+mod frame;
 mod gbuffer;
 mod gpu_scene;
 pub mod hybrid;
@@ -32,6 +33,7 @@ mod timing;
 pub use budget::{ShadowStorage, DEFAULT_SHADOW_MAP_BUDGET};
 pub use diagnostics::{GBuffer, LightDiagnostics, PixelClass, SilhouetteMapImage};
 pub use error::{RenderError, RenderResult};
+pub use frame::PassId;
 pub use hybrid::{HybridSettings, MaskKind};
 pub use plan::{
     CasterMode, CullReason, Culled, FramePlan, HybridReport, LightPlan, ShadowMapReport, ShadowVolumeReport,

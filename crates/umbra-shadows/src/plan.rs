@@ -278,6 +278,16 @@ pub(crate) struct PlanInput<'a> {
 /// it, so casters just outside the lit region stay in the map.
 const MAP_REACH_MARGIN: f32 = 0.05;
 
+/// The view of a frame, as planning sees it.
+struct ViewVolume {
+    view_proj: glam::Mat4,
+    /// The view frustum, and its side planes only (shadow volumes reach past near and far).
+    view: Planes,
+    sides: Planes,
+    /// Per object, whether its bounds may be in view.
+    visible: Vec<bool>,
+}
+
 /// Decides, per light, what to record.
 pub(crate) fn plan_frame(scene: &Scene, input: &PlanInput<'_>) -> RenderResult<Vec<LightPlan>> {
     let (width, height) = input.size;
@@ -285,131 +295,152 @@ pub(crate) fn plan_frame(scene: &Scene, input: &PlanInput<'_>) -> RenderResult<V
     let view = Planes::of(view_proj, Clip::All);
     let sides = Planes::of(view_proj, Clip::Sides);
     let visible: Vec<bool> = input.boxes.iter().map(|b| b.as_ref().is_some_and(|b| view.may_hold_box(b))).collect();
-    scene
-        .lights
-        .iter()
-        .enumerate()
-        .map(|(i, l)| {
-            let mut plan = LightPlan {
-                light: i,
-                name: l.name.clone(),
-                kind: l.kind(),
-                requested: l.technique,
-                technique: l.technique,
-                auto_choice: None,
-                recorded: true,
-                skipped_because: None,
-                shadowed: l.technique != Technique::Unshadowed,
-                unshadowed_because: None,
-                culled: Vec::new(),
-                scissor: None,
-                depth_bounds: None,
-                passes: Vec::new(),
-                shadow_map: None,
-                shadow_volume: None,
-                silhouette_map: None,
-                hybrid: None,
-                note: None,
-                map_casters: Vec::new(),
-                volume_casters: Vec::new(),
-            };
-            let casters: Vec<usize> = (0..scene.objects.len())
-                .filter(|&o| scene.objects[o].casts_shadows && input.boxes.get(o).is_some_and(Option::is_some))
-                .collect();
-            tally(&mut plan.culled, CullReason::NotACaster, scene.objects.iter().filter(|o| !o.casts_shadows).count());
-            if l.technique == Technique::Auto {
-                let (technique, why) = choose_auto(scene, i, input, &view_proj);
-                plan.technique = technique;
-                plan.auto_choice = Some(why);
-            }
-            if plan.technique == Technique::SilhouetteMap && l.kind() == LightKind::Point {
-                return Err(RenderError::UnsupportedLight {
-                    light: i,
-                    technique: plan.technique,
-                    why: SILHOUETTE_CUBE_UNSUPPORTED.into(),
-                });
-            }
-            if !input.cull {
-                plan.map_casters = casters.clone();
-                plan.volume_casters = casters;
-                return Ok(plan);
-            }
-            let reached = |o: usize, margin: f32| {
-                input.boxes.get(o).copied().flatten().map(|b| reach::light_reaches(l, &b, margin))
-            };
-            let lit_in_view: Vec<usize> =
-                (0..scene.objects.len()).filter(|&o| visible[o] && reached(o, 0.0) == Some(Ok(()))).collect();
-            let skip = if !l.contributes() {
-                Some("zero radiance: cannot change the image")
-            } else if scene.objects.is_empty() {
-                Some("no objects to light")
-            } else if !reach::light_may_be_seen(l, &view) {
-                Some("its range misses the view frustum")
-            } else if lit_in_view.is_empty() {
-                Some("reaches no visible object")
-            } else {
-                None
-            };
-            if let Some(why) = skip {
-                plan.recorded = false;
-                plan.shadowed = false;
-                plan.skipped_because = Some(why.into());
-                return Ok(plan);
-            }
-            if let (Some(f), false) =
-                (reach::footprint(l, input.camera, width, height), plan.technique == Technique::Hybrid)
-            {
-                plan.scissor = Some(f.scissor);
-                plan.depth_bounds = input.depth_bounds.then_some(f.depth);
-            }
-            if !plan.shadowed {
-                return Ok(plan);
-            }
-            let mut map_out = Vec::new();
-            for &c in &casters {
-                match reached(c, MAP_REACH_MARGIN) {
-                    Some(Ok(())) => plan.map_casters.push(c),
-                    Some(Err(why)) => map_out.push(why),
-                    None => {}
-                }
-            }
-            let reason = |u: &Unreached| match u {
-                Unreached::Range => CullReason::OutsideRange,
-                Unreached::Cone => CullReason::OutsideCone,
-            };
-            let volumes = matches!(plan.technique, Technique::ShadowVolume | Technique::Hybrid);
-            let mut out = Vec::new();
-            for &c in &casters {
-                let Some(b) = input.boxes.get(c).copied().flatten() else { continue };
-                match reach::light_reaches(l, &b, 0.0) {
-                    Err(why) => out.push(reason(&why)),
-                    Ok(()) if !sides.may_hold_sweep(&b, l.position) => out.push(CullReason::VolumeOutsideView),
-                    Ok(()) => plan.volume_casters.push(c),
-                }
-            }
-            let culled: Vec<CullReason> = if volumes { out } else { map_out.iter().map(reason).collect() };
-            for r in [CullReason::OutsideRange, CullReason::OutsideCone, CullReason::VolumeOutsideView] {
-                tally(&mut plan.culled, r, culled.iter().filter(|&&c| c == r).count());
-            }
-            let receives = lit_in_view.iter().any(|&o| scene.objects[o].receives_shadows);
-            let needed = match plan.technique {
-                Technique::ShadowVolume => &plan.volume_casters,
-                _ => &plan.map_casters,
-            };
-            let unshadowed = if !receives {
-                Some("no visible object it reaches receives shadows")
-            } else if needed.is_empty() {
-                Some("no caster can shadow a visible receiver")
-            } else {
-                None
-            };
-            if let Some(why) = unshadowed {
-                plan.shadowed = false;
-                plan.unshadowed_because = Some(why.into());
-            }
-            Ok(plan)
-        })
-        .collect()
+    let frame = ViewVolume { view_proj, view, sides, visible };
+    scene.lights.iter().enumerate().map(|(i, l)| plan_light(scene, input, &frame, i, l)).collect()
+}
+
+/// Light `i`'s plan: its technique (`auto` resolved), whether anything of it is recorded, its
+/// scissor and depth bounds, and its casters.
+fn plan_light(
+    scene: &Scene,
+    input: &PlanInput<'_>,
+    frame: &ViewVolume,
+    i: usize,
+    l: &umbra_scene::Light,
+) -> RenderResult<LightPlan> {
+    let (width, height) = input.size;
+    let (view_proj, view, visible) = (frame.view_proj, &frame.view, &frame.visible);
+    let mut plan = LightPlan {
+        light: i,
+        name: l.name.clone(),
+        kind: l.kind(),
+        requested: l.technique,
+        technique: l.technique,
+        auto_choice: None,
+        recorded: true,
+        skipped_because: None,
+        shadowed: l.technique != Technique::Unshadowed,
+        unshadowed_because: None,
+        culled: Vec::new(),
+        scissor: None,
+        depth_bounds: None,
+        passes: Vec::new(),
+        shadow_map: None,
+        shadow_volume: None,
+        silhouette_map: None,
+        hybrid: None,
+        note: None,
+        map_casters: Vec::new(),
+        volume_casters: Vec::new(),
+    };
+    let casters: Vec<usize> = (0..scene.objects.len())
+        .filter(|&o| scene.objects[o].casts_shadows && input.boxes.get(o).is_some_and(Option::is_some))
+        .collect();
+    tally(&mut plan.culled, CullReason::NotACaster, scene.objects.iter().filter(|o| !o.casts_shadows).count());
+    if l.technique == Technique::Auto {
+        let (technique, why) = choose_auto(scene, i, input, &view_proj);
+        plan.technique = technique;
+        plan.auto_choice = Some(why);
+    }
+    if plan.technique == Technique::SilhouetteMap && l.kind() == LightKind::Point {
+        return Err(RenderError::UnsupportedLight {
+            light: i,
+            technique: plan.technique,
+            why: SILHOUETTE_CUBE_UNSUPPORTED.into(),
+        });
+    }
+    if !input.cull {
+        plan.map_casters = casters.clone();
+        plan.volume_casters = casters;
+        return Ok(plan);
+    }
+    let reached =
+        |o: usize, margin: f32| input.boxes.get(o).copied().flatten().map(|b| reach::light_reaches(l, &b, margin));
+    let lit_in_view: Vec<usize> =
+        (0..scene.objects.len()).filter(|&o| visible[o] && reached(o, 0.0) == Some(Ok(()))).collect();
+    let skip = if !l.contributes() {
+        Some("zero radiance: cannot change the image")
+    } else if scene.objects.is_empty() {
+        Some("no objects to light")
+    } else if !reach::light_may_be_seen(l, view) {
+        Some("its range misses the view frustum")
+    } else if lit_in_view.is_empty() {
+        Some("reaches no visible object")
+    } else {
+        None
+    };
+    if let Some(why) = skip {
+        plan.recorded = false;
+        plan.shadowed = false;
+        plan.skipped_because = Some(why.into());
+        return Ok(plan);
+    }
+    if let (Some(f), false) = (reach::footprint(l, input.camera, width, height), plan.technique == Technique::Hybrid) {
+        plan.scissor = Some(f.scissor);
+        plan.depth_bounds = input.depth_bounds.then_some(f.depth);
+    }
+    if !plan.shadowed {
+        return Ok(plan);
+    }
+    pick_casters(&mut plan, scene, input, &frame.sides, l, &casters, &lit_in_view);
+    Ok(plan)
+}
+
+/// The casters of a shadowed light's map and volumes (culled ones tallied by reason), and
+/// whether it still shadows anything visible.
+fn pick_casters(
+    plan: &mut LightPlan,
+    scene: &Scene,
+    input: &PlanInput<'_>,
+    sides: &Planes,
+    l: &umbra_scene::Light,
+    casters: &[usize],
+    lit_in_view: &[usize],
+) {
+    let reached =
+        |o: usize, margin: f32| input.boxes.get(o).copied().flatten().map(|b| reach::light_reaches(l, &b, margin));
+    let mut map_out = Vec::new();
+    for &c in casters {
+        match reached(c, MAP_REACH_MARGIN) {
+            Some(Ok(())) => plan.map_casters.push(c),
+            Some(Err(why)) => map_out.push(why),
+            None => {}
+        }
+    }
+    let reason = |u: &Unreached| match u {
+        Unreached::Range => CullReason::OutsideRange,
+        Unreached::Cone => CullReason::OutsideCone,
+    };
+    let volumes = matches!(plan.technique, Technique::ShadowVolume | Technique::Hybrid);
+    let mut out = Vec::new();
+    for &c in casters {
+        let Some(b) = input.boxes.get(c).copied().flatten() else { continue };
+        match reach::light_reaches(l, &b, 0.0) {
+            Err(why) => out.push(reason(&why)),
+            Ok(()) if !sides.may_hold_sweep(&b, l.position) => out.push(CullReason::VolumeOutsideView),
+            Ok(()) => plan.volume_casters.push(c),
+        }
+    }
+    let culled: Vec<CullReason> = if volumes { out } else { map_out.iter().map(reason).collect() };
+    for r in [CullReason::OutsideRange, CullReason::OutsideCone, CullReason::VolumeOutsideView] {
+        tally(&mut plan.culled, r, culled.iter().filter(|&&c| c == r).count());
+    }
+    let receives = lit_in_view.iter().any(|&o| scene.objects[o].receives_shadows);
+    let needed = match plan.technique {
+        Technique::ShadowVolume => &plan.volume_casters,
+        _ => &plan.map_casters,
+    };
+    let unshadowed = if !receives {
+        Some("no visible object it reaches receives shadows")
+    } else if needed.is_empty() {
+        Some("no caster can shadow a visible receiver")
+    } else {
+        None
+    };
+    if let Some(why) = unshadowed {
+        plan.shadowed = false;
+        plan.unshadowed_because = Some(why.into());
+    }
 }
 
 /// `auto`'s choice for light `light`: the shadow map when a texel of its map projects no larger

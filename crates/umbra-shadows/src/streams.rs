@@ -14,17 +14,24 @@ pub(crate) struct Stream {
     buffer: Option<Buffer>,
     /// Counts the buffer's reallocations (what was bound to the old one must be bound again).
     generation: u64,
+    /// Whether the last [`Stream::fill`] had data.
+    filled: bool,
 }
 
 impl Stream {
     /// An empty stream for buffers named `name` with `usage`.
     pub const fn new(name: &'static str, usage: vk::BufferUsageFlags) -> Self {
-        Self { name, usage, buffer: None, generation: 0 }
+        Self { name, usage, buffer: None, generation: 0, filled: false }
     }
 
     /// The buffer filled last, if any.
     pub fn buffer(&self) -> Option<&Buffer> {
         self.buffer.as_ref()
+    }
+
+    /// The buffer, when the last [`Stream::fill`] had data to draw.
+    pub fn filled(&self) -> Option<&Buffer> {
+        self.buffer.as_ref().filter(|_| self.filled)
     }
 
     /// Changes whenever [`Stream::fill`] had to make a new buffer.
@@ -36,6 +43,7 @@ impl Stream {
     /// returns it; `None` when there is nothing to draw.
     pub fn fill<T: bytemuck::Pod>(&mut self, ctx: &Context, data: &[T]) -> RenderResult<Option<&Buffer>> {
         let bytes: &[u8] = bytemuck::cast_slice(data);
+        self.filled = !bytes.is_empty();
         if bytes.is_empty() {
             return Ok(None);
         }

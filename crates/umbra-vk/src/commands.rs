@@ -194,6 +194,30 @@ impl<'a> Recorder<'a> {
         unsafe { self.device().cmd_pipeline_barrier2(self.cmd, &dep) };
     }
 
+    /// Makes the transfer writes into `buffers` (copies into readbacks) visible to the host
+    /// once the submission's fence has signalled: one batched barrier.
+    pub fn transfer_to_host(&mut self, buffers: &[&'a Buffer]) {
+        let barriers: Vec<_> = buffers
+            .iter()
+            .map(|b| {
+                vk::BufferMemoryBarrier2::default()
+                    .src_stage_mask(vk::PipelineStageFlags2::ALL_TRANSFER)
+                    .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+                    .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+                    .dst_access_mask(vk::AccessFlags2::HOST_READ)
+                    .buffer(b.raw)
+                    .offset(0)
+                    .size(vk::WHOLE_SIZE)
+            })
+            .collect();
+        if barriers.is_empty() {
+            return;
+        }
+        let dep = vk::DependencyInfo::default().buffer_memory_barriers(&barriers);
+        // SAFETY: the buffers are alive for 'a; a barrier in a recording command buffer.
+        unsafe { self.device().cmd_pipeline_barrier2(self.cmd, &dep) };
+    }
+
     /// Begins dynamic rendering over the full extent of the first attachment.
     pub fn begin_rendering(&mut self, targets: &RenderTargets<'_, 'a>) {
         let extent = targets

@@ -61,3 +61,36 @@ mod tests {
         assert!(queryable(&Light::directional(Vec3::Y, 1.0), &b));
     }
 }
+
+/// Blocker culling's queries in one frame: a box per (hybrid light, caster index), in the order
+/// they are drawn and queried.
+#[derive(Default)]
+pub(crate) struct CullingPlan {
+    pub boxes: Vec<(usize, usize)>,
+    pub vertices: Vec<glam::Vec4>,
+    /// Casters dropped per light, once the answers are in.
+    culled: Vec<(usize, usize)>,
+}
+
+impl CullingPlan {
+    /// Takes in the queries' answers (`visible[i]`: samples of box `i`); returns the queried
+    /// casters with no visible sample, as (light, caster index), highest index first so that
+    /// removing them in order keeps the earlier indices valid.
+    pub fn apply(&mut self, visible: &[u64]) -> Vec<(usize, usize)> {
+        let mut dropped: Vec<(usize, usize)> =
+            self.boxes.iter().zip(visible).filter(|(_, &n)| n == 0).map(|(&b, _)| b).collect();
+        dropped.sort_by(|a, b| b.cmp(a));
+        for &(light, _) in &self.boxes {
+            if !self.culled.iter().any(|&(l, _)| l == light) {
+                let n = dropped.iter().filter(|&&(l, _)| l == light).count();
+                self.culled.push((light, n));
+            }
+        }
+        dropped
+    }
+
+    /// Casters culled for `light`, when its boxes were queried.
+    pub fn culled(&self, light: usize) -> Option<usize> {
+        self.culled.iter().find(|&&(l, _)| l == light).map(|&(_, n)| n)
+    }
+}

@@ -2,7 +2,7 @@
 //! z-fail shadow volumes run only there, masked by the depth-bounds test used as a computation
 //! mask. Shadow-volume accuracy at close to shadow-map cost.
 //!
-//! Per light, top to bottom (`pass.rs`):
+//! Per light, top to bottom (declared in `frame.rs`, recorded in `pass.rs`):
 //! 1. a shadow map (the shadow-map module's pass), by default below the image's resolution;
 //!    blocker culling (§6.3, `cull.rs`) may then drop casters no map texel sees;
 //! 2. `hybrid classify`: over the frame's depth, one hardware 2×2 PCF fetch per pixel; a result
@@ -17,6 +17,7 @@
 //! 5. `light N silhouettes`: silhouette pixels lit where their count is zero.
 
 pub(crate) mod cull;
+pub(crate) mod frame;
 pub(crate) mod pass;
 mod settings;
 #[cfg(test)]

@@ -1,23 +1,23 @@
-//! The GPU passes of a hybrid light (Chan–Durand §3–4), after its shadow map:
-//! `hybrid classify N` (step 2), `computation mask N` (§4), `hybrid volumes N` (step 3, the
-//! stencil pass), `light N (…) silhouettes` (step 4), plus blocker culling (§6.3) and the
-//! diagnostic readbacks.
+//! The pipelines and recording of a hybrid light's GPU passes (Chan–Durand §3–4), after its
+//! shadow map: `hybrid classify N` (step 2), `computation mask N` (§4), `hybrid volumes N`
+//! (step 3, the stencil pass), `light N silhouettes` (step 4), plus blocker culling (§6.3) and
+//! the diagnostic readbacks. `hybrid::frame` declares them, with the images each uses.
 
 use super::cull::BOX_VERTICES;
 use super::settings::{MaskKind, COUNT_BITS, DEPTH_BOUNDS_EPSILON, SILHOUETTE_BIT};
 use crate::diagnostics::ClassReadback;
 use crate::forward;
+use crate::frame::{PassRecorder, QueryId};
 use crate::gpu_scene::{DrawPush, GpuScene};
 use crate::shadow_map::{self, ShadowFilter, ShadowMapSettings};
 use crate::shadow_volume::build::LightVolumes;
 use crate::shadow_volume::pass::{self as volume_pass, VolumeBindings};
-use crate::timing::{PassLog, PassTimer};
 use crate::RenderResult;
 use umbra_scene::Scene;
 use umbra_vk::{
     vk, Blend, Buffer, ColorAttachment, ColorTarget, Context, DepthAttachment, DepthState, DescriptorSet,
-    GraphicsPipeline, GraphicsPipelineDesc, Image, ImageDesc, ImageState, PipelineLayout, QueryPool, Recorder,
-    RenderTargets, StencilFace,
+    GraphicsPipeline, GraphicsPipelineDesc, Image, ImageDesc, ImageState, PipelineLayout, Recorder, RenderTargets,
+    StencilFace,
 };
 
 /// The frame-sized images of the hybrid, reused by every hybrid light of a frame.
@@ -230,173 +230,146 @@ impl HybridPass {
     }
 
     /// Records the box of every caster in `boxes` (a range of 36 vertices each in `vertices`)
-    /// from view `view` against `map` (a 2D shadow map in [`ImageState::FragmentRead`]), query
-    /// `first_query + i` around box `i`.
+    /// from view `view` against `map` (a 2D shadow map in [`ImageState::DepthStencilReadOnly`]),
+    /// query `first_query + i` around box `i`.
     #[allow(clippy::too_many_arguments)]
     pub fn record_culling<'a>(
         &'a self,
-        rec: &mut Recorder<'a>,
+        cx: &mut PassRecorder<'_, 'a>,
         layout: &'a PipelineLayout,
         gpu: &'a GpuScene,
         map: &'a Image,
         vertices: &'a Buffer,
         boxes: std::ops::Range<u32>,
         view: u32,
-        queries: &'a QueryPool,
-        first_query: u32,
-        log: &mut PassLog,
+        first_query: QueryId,
     ) {
-        rec.transition(&[(map, ImageState::FragmentRead, ImageState::DepthStencilReadOnly)]);
         let depth = DepthAttachment { image: map, view: None, clear: None, clear_stencil: None, read_only: true };
-        rec.begin_rendering(&RenderTargets { color: &[], depth: Some(depth) });
-        rec.bind_pipeline(&self.boxes);
-        rec.bind_descriptor_set(layout, 0, &gpu.frame.set);
-        rec.bind_vertex_buffer(vertices);
-        rec.push_constants(layout, &DrawPush { object: 0, view });
+        cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(depth) });
+        cx.rec.bind_pipeline(&self.boxes);
+        cx.rec.bind_descriptor_set(layout, 0, &gpu.frame.set);
+        cx.rec.bind_vertex_buffer(vertices);
+        cx.rec.push_constants(layout, &DrawPush { object: 0, view });
         for (i, b) in boxes.enumerate() {
-            rec.begin_query(queries, first_query + i as u32);
-            rec.draw_range(BOX_VERTICES, b * BOX_VERTICES);
-            rec.end_query(queries, first_query + i as u32);
-            log.count_draw(u64::from(BOX_VERTICES / 3));
+            let query = QueryId(first_query.0 + i as u32);
+            cx.begin_query(query);
+            cx.rec.draw_range(BOX_VERTICES, b * BOX_VERTICES);
+            cx.end_query(query);
+            cx.log.count_draw(u64::from(BOX_VERTICES / 3));
         }
-        rec.end_rendering();
-        rec.transition(&[(map, ImageState::DepthStencilReadOnly, ImageState::FragmentRead)]);
+        cx.rec.end_rendering();
     }
 
-    /// Records steps 2–4 of one hybrid light, each a timed pass, and its diagnostics.
-    pub fn record_light<'a>(
-        &'a self,
-        rec: &mut Recorder<'a>,
-        timer: &'a PassTimer,
-        log: &mut PassLog,
-        h: HybridLight<'a>,
-    ) {
-        let Some(targets) = &self.targets else { return };
-        let classes = &targets.classes;
-        let light = h.light as u32;
-        let name = |what: &str| format!("{what} {}", h.light);
+    /// The depth/stencil image a light with `mask` counts in: the masked copy for
+    /// `depth-bounds`, else the frame's own.
+    pub fn count_target<'a>(&'a self, mask: MaskKind, depth: &'a Image) -> &'a Image {
+        match (mask, self.targets.as_ref().and_then(|t| t.masked_depth.as_ref())) {
+            (MaskKind::DepthBounds, Some(masked)) => masked,
+            _ => depth,
+        }
+    }
 
-        // Step 2: classify every visible pixel; shade those the map decides.
-        timer.begin(rec, log, name("hybrid classify"), Some(h.light));
-        let classes_was = if h.first_in_frame { ImageState::Undefined } else { ImageState::FragmentRead };
-        rec.transition(&[(classes, classes_was, ImageState::ColorAttachment)]);
+    /// Step 2 (classes in ColorAttachment, the map readable): classify every visible pixel;
+    /// shade those the map decides.
+    pub fn record_classify<'a>(&'a self, cx: &mut PassRecorder<'_, 'a>, h: &HybridLight<'a>) {
+        let Some(classes) = self.classes() else { return };
         let color = [
             ColorAttachment { image: h.color, clear: None },
             ColorAttachment { image: classes, clear: Some([0.0; 4]) },
         ];
         let frame_depth =
             DepthAttachment { image: h.depth, view: None, clear: None, clear_stencil: None, read_only: false };
-        rec.begin_rendering(&RenderTargets { color: &color, depth: Some(frame_depth) });
-        rec.bind_pipeline(&self.classify);
-        rec.bind_descriptor_set(h.layout, 1, h.shadow_set);
-        forward::draw_objects(rec, h.layout, h.gpu, h.scene, light, log);
-        rec.end_rendering();
-        rec.transition(&[(classes, ImageState::ColorAttachment, ImageState::FragmentRead)]);
-        timer.end(rec, log);
+        cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(frame_depth) });
+        cx.rec.bind_pipeline(&self.classify);
+        cx.rec.bind_descriptor_set(h.layout, 1, h.shadow_set);
+        forward::draw_objects(cx.rec, h.layout, h.gpu, h.scene, h.light as u32, cx.log);
+        cx.rec.end_rendering();
+    }
 
-        // §4: the computation mask (and the silhouette-pixel count, by occlusion query).
-        timer.begin(rec, log, name("computation mask"), Some(h.light));
-        let target = match (h.mask, &targets.masked_depth) {
-            (MaskKind::DepthBounds, Some(masked)) => {
-                let masked_was =
-                    if h.first_in_frame { ImageState::Undefined } else { ImageState::DepthStencilAttachment };
-                rec.transition(&[
-                    (h.depth, ImageState::DepthStencilAttachment, ImageState::TransferSrc),
-                    (masked, masked_was, ImageState::TransferDst),
-                ]);
-                rec.copy_image(h.depth, masked);
-                rec.transition(&[
-                    (h.depth, ImageState::TransferSrc, ImageState::DepthStencilAttachment),
-                    (masked, ImageState::TransferDst, ImageState::DepthStencilAttachment),
-                ]);
-                masked
-            }
-            _ => h.depth,
-        };
+    /// §4: the computation mask (and the silhouette-pixel count, by occlusion query). With
+    /// `depth-bounds` the pass begins with the frame's depth in TransferSrc and the masked copy
+    /// in TransferDst: the depth is copied, then both become attachments again.
+    pub fn record_mask<'a>(&'a self, cx: &mut PassRecorder<'_, 'a>, h: &HybridLight<'a>) {
+        let target = self.count_target(h.mask, h.depth);
+        if target.raw != h.depth.raw {
+            cx.rec.copy_image(h.depth, target);
+            cx.enter(&[(h.depth, ImageState::DepthStencilAttachment), (target, ImageState::DepthStencilAttachment)]);
+        }
         let attach =
-            |clear_stencil| DepthAttachment { image: target, view: None, clear: None, clear_stencil, read_only: false };
-        rec.begin_rendering(&RenderTargets { color: &[], depth: Some(attach(Some(0))) });
-        rec.bind_pipeline(match h.mask {
+            DepthAttachment { image: target, view: None, clear: None, clear_stencil: Some(0), read_only: false };
+        cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(attach) });
+        cx.rec.bind_pipeline(match h.mask {
             MaskKind::DepthBounds => &self.mask_depth_bounds,
             MaskKind::Stencil => &self.mask_stencil,
             MaskKind::None => &self.mask_none,
         });
         if h.mask == MaskKind::Stencil {
-            rec.set_stencil_reference(SILHOUETTE_BIT);
+            cx.rec.set_stencil_reference(SILHOUETTE_BIT);
         }
-        rec.bind_descriptor_set(h.layout, 1, h.shadow_set);
-        rec.begin_query(h.queries, h.first_query);
-        rec.draw(3);
-        log.count_draw(1);
-        rec.end_query(h.queries, h.first_query);
-        rec.end_rendering();
-        timer.end(rec, log);
+        cx.rec.bind_descriptor_set(h.layout, 1, h.shadow_set);
+        cx.begin_query(h.mask_query);
+        cx.rec.draw(3);
+        cx.log.count_draw(1);
+        cx.end_query(h.mask_query);
+        cx.rec.end_rendering();
+    }
 
-        // Step 3: z-fail volumes, where the mask lets them through.
-        timer.begin(rec, log, name("hybrid volumes"), Some(h.light));
-        rec.transition(&[(target, ImageState::DepthStencilAttachment, ImageState::DepthStencilAttachment)]);
-        if let Some(vertices) = h.vertices {
-            rec.begin_rendering(&RenderTargets { color: &[], depth: Some(attach(None)) });
-            self.bind_volumes(rec, h.mask, h.zfail);
-            let b = VolumeBindings { layout: h.layout, gpu: h.gpu, vertices };
-            b.bind(rec);
-            b.draw(rec, &h.volumes.casters, light, log);
-            rec.end_rendering();
-        }
-        timer.end(rec, log);
+    /// Step 3: z-fail volumes, where the mask lets them through.
+    pub fn record_volumes<'a>(&'a self, cx: &mut PassRecorder<'_, 'a>, h: &HybridLight<'a>) {
+        let Some(vertices) = h.vertices else { return };
+        let target = self.count_target(h.mask, h.depth);
+        cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(keep(target)) });
+        self.bind_volumes(cx.rec, h.mask, h.zfail);
+        let b = VolumeBindings { layout: h.layout, gpu: h.gpu, vertices };
+        b.bind(cx.rec);
+        b.draw(cx.rec, &h.volumes.casters, h.light as u32, cx.log);
+        cx.rec.end_rendering();
+    }
 
-        // Step 4: silhouette pixels lit where their count is zero.
-        timer.begin(rec, log, format!("light {} silhouettes", h.light), Some(h.light));
+    /// Step 4: silhouette pixels lit where their count is zero.
+    pub fn record_silhouettes<'a>(&'a self, cx: &mut PassRecorder<'_, 'a>, h: &HybridLight<'a>) {
+        let target = self.count_target(h.mask, h.depth);
         let color = [ColorAttachment { image: h.color, clear: None }];
-        rec.begin_rendering(&RenderTargets { color: &color, depth: Some(attach(None)) });
-        rec.bind_pipeline(if h.mask == MaskKind::Stencil { &self.lit_count_bits } else { &self.lit });
-        rec.set_stencil_reference(0);
-        rec.bind_descriptor_set(h.layout, 1, h.shadow_set);
-        forward::draw_objects(rec, h.layout, h.gpu, h.scene, light, log);
-        rec.end_rendering();
-        timer.end(rec, log);
+        cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(keep(target)) });
+        cx.rec.bind_pipeline(if h.mask == MaskKind::Stencil { &self.lit_count_bits } else { &self.lit });
+        cx.rec.set_stencil_reference(0);
+        cx.rec.bind_descriptor_set(h.layout, 1, h.shadow_set);
+        forward::draw_objects(cx.rec, h.layout, h.gpu, h.scene, h.light as u32, cx.log);
+        cx.rec.end_rendering();
+    }
 
-        if let Some(q) = h.fragment_query {
-            // The volume fragments the mask lets through (no depth test, no writes); without
-            // a mask the query stays empty (the count is the unmasked one).
-            timer.begin_diagnostic(rec, log, name("masked volume fragments"), Some(h.light));
-            rec.begin_rendering(&RenderTargets { color: &[], depth: Some(attach(None)) });
-            rec.begin_query(h.queries, q);
-            let counting = match h.mask {
-                MaskKind::DepthBounds => self.fragments_depth_bounds.as_ref(),
-                MaskKind::Stencil => Some(&self.fragments_stencil),
-                MaskKind::None => None,
-            };
-            if let (Some(p), Some(vertices)) = (counting, h.vertices) {
-                rec.bind_pipeline(p);
-                match h.mask {
-                    MaskKind::DepthBounds => rec.set_depth_bounds(DEPTH_BOUNDS_EPSILON, 1.0),
-                    _ => rec.set_stencil_reference(SILHOUETTE_BIT),
-                }
-                let b = VolumeBindings { layout: h.layout, gpu: h.gpu, vertices };
-                b.bind(rec);
-                b.draw(rec, &h.volumes.casters, light, log);
+    /// Diagnostic: the volume fragments the mask lets through (no depth test, no writes) into
+    /// `query`; without a mask the query stays empty (the count is the unmasked one).
+    pub fn record_fragments<'a>(&'a self, cx: &mut PassRecorder<'_, 'a>, h: &HybridLight<'a>, query: QueryId) {
+        let target = self.count_target(h.mask, h.depth);
+        cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(keep(target)) });
+        cx.begin_query(query);
+        let counting = match h.mask {
+            MaskKind::DepthBounds => self.fragments_depth_bounds.as_ref(),
+            MaskKind::Stencil => Some(&self.fragments_stencil),
+            MaskKind::None => None,
+        };
+        if let (Some(p), Some(vertices)) = (counting, h.vertices) {
+            cx.rec.bind_pipeline(p);
+            match h.mask {
+                MaskKind::DepthBounds => cx.rec.set_depth_bounds(DEPTH_BOUNDS_EPSILON, 1.0),
+                _ => cx.rec.set_stencil_reference(SILHOUETTE_BIT),
             }
-            rec.end_query(h.queries, q);
-            rec.end_rendering();
-            timer.end(rec, log);
+            let b = VolumeBindings { layout: h.layout, gpu: h.gpu, vertices };
+            b.bind(cx.rec);
+            b.draw(cx.rec, &h.volumes.casters, h.light as u32, cx.log);
         }
+        cx.end_query(query);
+        cx.rec.end_rendering();
+    }
 
-        let Some(out) = h.readback else { return };
-        timer.begin_diagnostic(rec, log, name("hybrid diagnostics"), Some(h.light));
-        rec.transition(&[
-            (classes, ImageState::FragmentRead, ImageState::TransferSrc),
-            (target, ImageState::DepthStencilAttachment, ImageState::TransferSrc),
-        ]);
-        rec.copy_image_to_buffer(classes, 0, &out.classes);
+    /// Diagnostic (classes and count target in TransferSrc): both copied into `out`.
+    pub fn record_readback<'a>(&'a self, cx: &mut PassRecorder<'_, 'a>, h: &HybridLight<'a>, out: &'a ClassReadback) {
+        let Some(classes) = self.classes() else { return };
+        cx.rec.copy_image_to_buffer(classes, 0, &out.classes);
         if let Some(stencil) = &out.stencil {
-            rec.copy_stencil_to_buffer(target, stencil);
+            cx.rec.copy_stencil_to_buffer(self.count_target(h.mask, h.depth), stencil);
         }
-        rec.transition(&[
-            (classes, ImageState::TransferSrc, ImageState::FragmentRead),
-            (target, ImageState::TransferSrc, ImageState::DepthStencilAttachment),
-        ]);
-        timer.end(rec, log);
     }
 
     /// Binds the counting pipeline of `mask` and its dynamic state.
@@ -420,13 +393,12 @@ impl HybridPass {
 }
 
 /// What one hybrid light's passes read and write.
+#[derive(Clone, Copy)]
 pub(crate) struct HybridLight<'a> {
     /// Index of the light.
     pub light: usize,
     /// Its computation mask (supported by the device: checked when the renderer was built).
     pub mask: MaskKind,
-    /// Whether it is the frame's first hybrid light (the targets' content is undefined).
-    pub first_in_frame: bool,
     pub layout: &'a PipelineLayout,
     pub gpu: &'a GpuScene,
     pub scene: &'a Scene,
@@ -440,11 +412,11 @@ pub(crate) struct HybridLight<'a> {
     pub vertices: Option<&'a Buffer>,
     /// The unmasked z-fail pipeline (`none`).
     pub zfail: &'a GraphicsPipeline,
-    /// Query `first_query`: the mask pass's samples.
-    pub queries: &'a QueryPool,
-    pub first_query: u32,
-    /// With `overdraw`: the query counting masked volume fragments (written even when empty:
-    /// every query of the pool is read back). With diagnostics: the readbacks.
-    pub fragment_query: Option<u32>,
-    pub readback: Option<&'a ClassReadback>,
+    /// The mask pass's samples.
+    pub mask_query: QueryId,
+}
+
+/// Keeps depth and stencil of `image`.
+fn keep(image: &Image) -> DepthAttachment<'_> {
+    DepthAttachment { image, view: None, clear: None, clear_stencil: None, read_only: false }
 }

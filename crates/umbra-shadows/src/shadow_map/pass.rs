@@ -183,8 +183,9 @@ impl ShadowMapPass {
         crate::budget::release_unused(&mut self.targets, keep);
     }
 
-    /// Records the depth pass of light `light` (prepared with [`ShadowMapPass::prepare`]):
-    /// one rendering per map layer, casters front to back, then the map made readable.
+    /// Records the depth pass of light `light` (prepared with [`ShadowMapPass::prepare`], its map
+    /// in [`ImageState::DepthStencilAttachment`]): one rendering per map layer, casters front
+    /// to back.
     /// `bias_clamp` limits the depth bias (map depth units, 0 = no limit).
     #[allow(clippy::too_many_arguments)]
     pub fn record<'a>(
@@ -200,7 +201,6 @@ impl ShadowMapPass {
         log: &mut PassLog,
     ) -> RenderResult<()> {
         let target = self.target(light)?;
-        rec.transition(&[(&target.image, ImageState::Undefined, ImageState::DepthStencilAttachment)]);
         for layer in 0..views.views.len() {
             rec.begin_rendering(&RenderTargets {
                 color: &[],
@@ -228,7 +228,6 @@ impl ShadowMapPass {
             }
             rec.end_rendering();
         }
-        rec.transition(&[(&target.image, ImageState::DepthStencilAttachment, ImageState::FragmentRead)]);
         Ok(())
     }
 

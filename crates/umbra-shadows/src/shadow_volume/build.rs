@@ -2,6 +2,7 @@
 //! uses (§3.4).
 
 use super::settings::VolumeMode;
+use crate::plan::{CasterMode, ShadowVolumeReport};
 use glam::{Vec3, Vec4, Vec4Swizzles};
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -29,6 +30,32 @@ pub(crate) struct CasterVolume {
 pub(crate) struct LightVolumes {
     pub casters: Vec<CasterVolume>,
     pub cpu_ms: f64,
+}
+
+impl LightVolumes {
+    /// The report of these volumes (`volume_fragments` is filled in once counted).
+    pub fn report(&self, scene: &Scene) -> ShadowVolumeReport {
+        let mode = |c: Counting| if c == Counting::ZPass { "zpass" } else { "zfail" };
+        ShadowVolumeReport {
+            casters: self.casters.len(),
+            zpass_casters: self.casters.iter().filter(|c| c.counting == Counting::ZPass).count(),
+            zfail_casters: self.casters.iter().filter(|c| c.counting == Counting::ZFail).count(),
+            silhouette_edges: self.casters.iter().map(|c| c.stats.silhouette_edges).sum(),
+            volume_triangles: self.casters.iter().map(|c| c.count as usize / 3).sum(),
+            cpu_build_ms: self.cpu_ms,
+            volume_fragments: None,
+            caster_modes: self
+                .casters
+                .iter()
+                .map(|c| CasterMode {
+                    object: c.object,
+                    name: scene.objects.get(c.object).map(|o| o.name.clone()).unwrap_or_default(),
+                    mode: mode(c.counting),
+                    triangles: c.count as usize / 3,
+                })
+                .collect(),
+        }
+    }
 }
 
 /// Builds the volumes of `light` for the objects `casters` (the plan's, `LightPlan`), appending

@@ -130,9 +130,9 @@ impl SilhouetteMapPass {
         light.and_then(|l| self.targets.get(l)).and_then(Option::as_ref).unwrap_or(&self.placeholder)
     }
 
-    /// Records pass 2 for light `light`: clear to the default point, draw its `edges` (a range
-    /// of `instances`) as quads reading the depth map through `depth_set`, then make the map
-    /// readable by fragment shaders.
+    /// Records pass 2 for light `light` (its silhouette map in
+    /// [`ImageState::ColorAttachment`]): clear to the default point, draw its `edges` (a range
+    /// of `instances`) as quads reading the depth map through `depth_set`.
     #[allow(clippy::too_many_arguments)]
     pub fn record_points<'a>(
         &'a self,
@@ -151,7 +151,6 @@ impl SilhouetteMapPass {
             why: "silhouette map recorded before `prepare`".into(),
             limit: None,
         })?;
-        rec.transition(&[(target, ImageState::Undefined, ImageState::ColorAttachment)]);
         let color = [ColorAttachment { image: target, clear: Some(default_clear()) }];
         rec.begin_rendering(&RenderTargets { color: &color, depth: None });
         if let (Some(buffer), true) = (instances, edges.count > 0) {
@@ -164,7 +163,6 @@ impl SilhouetteMapPass {
             log.count_draw(u64::from(VERTICES_PER_EDGE / 3 * edges.count));
         }
         rec.end_rendering();
-        rec.transition(&[(target, ImageState::ColorAttachment, ImageState::FragmentRead)]);
         Ok(())
     }
 

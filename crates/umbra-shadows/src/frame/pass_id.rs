@@ -1,0 +1,105 @@
+//! Every pass a frame can record, by a typed id: its debug label, its report name, the light it
+//! serves and whether it is a diagnostic are all read from the id, never from its name.
+
+use serde::Serialize;
+use umbra_scene::LightKind;
+
+/// Which pass of a frame, and for which light.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PassId {
+    /// Depth from the light into its shadow map (all techniques with a map).
+    ShadowMap(usize),
+    /// Sen et al. §3 pass 2: the silhouette points on the dual grid.
+    SilhouetteMap(usize),
+    /// Chan–Durand §6.3: every hybrid light's caster boxes against its map.
+    BlockerCulling,
+    /// Depth plus the ambient term of every object.
+    Ambient,
+    /// Diagnostic: world positions and normals for the exact reference.
+    GBuffer,
+    /// Everitt–Kilgard: the stencil counts of a shadow-volume light.
+    ShadowVolume(usize),
+    /// The additive lighting of a light, with its shadow test.
+    Light(usize, LightKind),
+    /// Chan–Durand §3 step 2: classify every visible pixel, shade those the map decides.
+    HybridClassify(usize),
+    /// Chan–Durand §4: the computation mask.
+    ComputationMask(usize),
+    /// Chan–Durand §3 step 3: z-fail volumes through the mask.
+    HybridVolumes(usize),
+    /// Chan–Durand §3 step 4: silhouette pixels lit where their count is zero.
+    HybridSilhouettes(usize),
+    /// Diagnostic: the volume fragments the hybrid's mask lets through.
+    MaskedVolumeFragments(usize),
+    /// Diagnostic: the hybrid's classes and stencil copied out.
+    HybridDiagnostics(usize),
+    /// Diagnostic: the classification (and stencil) of a shadow-map or shadow-volume light.
+    LightDiagnostics(usize),
+    /// Diagnostic: a light's volumes into the overdraw image.
+    VolumeOverdraw(usize),
+    /// Diagnostic: a silhouette-map light's classification and silhouette points.
+    SilhouetteDiagnostics(usize),
+    /// The colour target copied out.
+    Readback,
+}
+
+impl PassId {
+    /// The pass's name: its debug label and `PassReport::name` (`shadow_map 0`,
+    /// `light 1 (spot)`, `hybrid volumes 2`, `readback`).
+    pub fn name(self) -> String {
+        match self {
+            PassId::ShadowMap(l) => format!("shadow_map {l}"),
+            PassId::SilhouetteMap(l) => format!("silhouette_map {l}"),
+            PassId::BlockerCulling => "blocker culling".into(),
+            PassId::Ambient => "ambient".into(),
+            PassId::GBuffer => "g-buffer".into(),
+            PassId::ShadowVolume(l) => format!("shadow_volume {l}"),
+            PassId::Light(l, kind) => format!("light {l} ({kind:?})").to_lowercase(),
+            PassId::HybridClassify(l) => format!("hybrid classify {l}"),
+            PassId::ComputationMask(l) => format!("computation mask {l}"),
+            PassId::HybridVolumes(l) => format!("hybrid volumes {l}"),
+            PassId::HybridSilhouettes(l) => format!("light {l} silhouettes"),
+            PassId::MaskedVolumeFragments(l) => format!("masked volume fragments {l}"),
+            PassId::HybridDiagnostics(l) => format!("hybrid diagnostics {l}"),
+            PassId::LightDiagnostics(l) => format!("light diagnostics {l}"),
+            PassId::VolumeOverdraw(l) => format!("volume overdraw {l}"),
+            PassId::SilhouetteDiagnostics(l) => format!("silhouette diagnostics {l}"),
+            PassId::Readback => "readback".into(),
+        }
+    }
+
+    /// The light the pass serves, if any.
+    pub fn light(self) -> Option<usize> {
+        match self {
+            PassId::BlockerCulling | PassId::Ambient | PassId::GBuffer | PassId::Readback => None,
+            PassId::ShadowMap(l)
+            | PassId::SilhouetteMap(l)
+            | PassId::ShadowVolume(l)
+            | PassId::Light(l, _)
+            | PassId::HybridClassify(l)
+            | PassId::ComputationMask(l)
+            | PassId::HybridVolumes(l)
+            | PassId::HybridSilhouettes(l)
+            | PassId::MaskedVolumeFragments(l)
+            | PassId::HybridDiagnostics(l)
+            | PassId::LightDiagnostics(l)
+            | PassId::VolumeOverdraw(l)
+            | PassId::SilhouetteDiagnostics(l) => Some(l),
+        }
+    }
+
+    /// Whether it is a diagnostic pass: not part of any technique's cost (left out of
+    /// `FrameReport::total_gpu_ms`).
+    pub fn diagnostic(self) -> bool {
+        matches!(
+            self,
+            PassId::GBuffer
+                | PassId::MaskedVolumeFragments(_)
+                | PassId::HybridDiagnostics(_)
+                | PassId::LightDiagnostics(_)
+                | PassId::VolumeOverdraw(_)
+                | PassId::SilhouetteDiagnostics(_)
+        )
+    }
+}

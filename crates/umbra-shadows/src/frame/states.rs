@@ -1,0 +1,46 @@
+//! The state every image of a frame was last left in, so that each barrier is emitted from the
+//! image's real last state and never from a hand-kept guess.
+
+use umbra_vk::{vk, Image, ImageState, Recorder};
+
+/// The last state of every image used so far this frame; an image not seen yet is
+/// [`ImageState::Undefined`] (its content from an earlier frame is discarded).
+#[derive(Default)]
+pub(crate) struct ImageStates {
+    last: Vec<(vk::Image, ImageState)>,
+}
+
+impl ImageStates {
+    /// Forgets every image (at the start of a frame).
+    pub fn clear(&mut self) {
+        self.last.clear();
+    }
+
+    /// The state `image` was last left in.
+    pub fn of(&self, image: &Image) -> ImageState {
+        self.last.iter().find(|(raw, _)| *raw == image.raw).map_or(ImageState::Undefined, |&(_, s)| s)
+    }
+
+    /// Records one batched barrier moving every image of `uses` into its state: a layout
+    /// change, or a write before or after (write-after-write and read-after-write in one
+    /// layout still need the memory dependency). Reads after reads in one state need none.
+    pub fn enter<'a>(&mut self, rec: &mut Recorder<'a>, uses: &[(&'a Image, ImageState)]) {
+        let mut barriers = Vec::with_capacity(uses.len());
+        for &(image, state) in uses {
+            let was = self.of(image);
+            if was != state || writes(was) || writes(state) {
+                barriers.push((image, was, state));
+            }
+            match self.last.iter_mut().find(|(raw, _)| *raw == image.raw) {
+                Some(entry) => entry.1 = state,
+                None => self.last.push((image.raw, state)),
+            }
+        }
+        rec.transition(&barriers);
+    }
+}
+
+/// Whether an image in `state` may be written.
+fn writes(state: ImageState) -> bool {
+    matches!(state, ImageState::ColorAttachment | ImageState::DepthStencilAttachment | ImageState::TransferDst)
+}

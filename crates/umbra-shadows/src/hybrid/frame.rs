@@ -1,0 +1,82 @@
+//! The passes of one hybrid light in the frame graph, in the paper's order (Chan–Durand §3):
+//! step 2 `hybrid classify`, §4 `computation mask`, step 3 `hybrid volumes`, step 4
+//! `light N silhouettes`, then the diagnostics asked for. Each declares the images it uses.
+
+use super::pass::{HybridLight, HybridPass};
+use crate::diagnostics::ClassReadback;
+use crate::frame::{PassId, QueryId, Stage, Use};
+use umbra_vk::{Image, ImageState};
+
+/// The queries of one hybrid light: the mask pass's samples and, with `overdraw`, the volume
+/// fragments the mask lets through.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct HybridQueries {
+    pub mask: QueryId,
+    pub fragments: Option<QueryId>,
+}
+
+/// Declares light `h.light`'s passes after its shadow map `map`; `h.mask_query` is set here.
+/// `fragments`: count the masked volume fragments (`overdraw`); `readback`: copy the classes
+/// and the stencil out (diagnostics).
+pub(crate) fn declare_light<'a>(
+    stage: &mut Stage<'a>,
+    pass: &'a HybridPass,
+    mut h: HybridLight<'a>,
+    map: &'a Image,
+    fragments: bool,
+    readback: Option<&'a ClassReadback>,
+) -> HybridQueries {
+    let Some(classes) = pass.classes() else {
+        return HybridQueries { mask: QueryId(0), fragments: None };
+    };
+    use ImageState::{ColorAttachment as Color, DepthStencilAttachment as Depth, FragmentRead as Read};
+    h.mask_query = stage.queries(1);
+    let target = pass.count_target(h.mask, h.depth);
+    let l = h.light;
+
+    let classify = [Use::Image(h.color, Color), Use::Image(classes, Color), Use::Image(h.depth, Depth)];
+    stage.pass(PassId::HybridClassify(l), &[&classify[..], &[Use::Image(map, Read)]].concat(), move |cx| {
+        pass.record_classify(cx, &h);
+        Ok(())
+    });
+    // With depth-bounds the frame's depth is first copied into the masked target.
+    let mask_uses = match target.raw != h.depth.raw {
+        true => vec![Use::Image(h.depth, ImageState::TransferSrc), Use::Image(target, ImageState::TransferDst)],
+        false => vec![Use::Image(h.depth, Depth)],
+    };
+    let reads = [Use::Image(classes, Read), Use::Image(map, Read)];
+    stage.pass(PassId::ComputationMask(l), &[&mask_uses[..], &reads].concat(), move |cx| {
+        pass.record_mask(cx, &h);
+        Ok(())
+    });
+    stage.pass(PassId::HybridVolumes(l), &[Use::Image(target, Depth)], move |cx| {
+        pass.record_volumes(cx, &h);
+        Ok(())
+    });
+    let lit = [Use::Image(h.color, Color), Use::Image(target, Depth)];
+    stage.pass(PassId::HybridSilhouettes(l), &[&lit[..], &reads].concat(), move |cx| {
+        pass.record_silhouettes(cx, &h);
+        Ok(())
+    });
+    let fragments = fragments.then(|| {
+        let query = stage.queries(1);
+        stage.pass(PassId::MaskedVolumeFragments(l), &[Use::Image(target, Depth)], move |cx| {
+            pass.record_fragments(cx, &h, query);
+            Ok(())
+        });
+        query
+    });
+    if let Some(out) = readback {
+        let mut uses = vec![
+            Use::Image(classes, ImageState::TransferSrc),
+            Use::Image(target, ImageState::TransferSrc),
+            Use::Readback(&out.classes),
+        ];
+        uses.extend(out.stencil.as_ref().map(Use::Readback));
+        stage.pass(PassId::HybridDiagnostics(l), &uses, move |cx| {
+            pass.record_readback(cx, &h, out);
+            Ok(())
+        });
+    }
+    HybridQueries { mask: h.mask_query, fragments }
+}

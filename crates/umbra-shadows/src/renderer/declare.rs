@@ -1,0 +1,398 @@
+//! The frame's passes, declared in order into the frame graph: first the lights' views (shadow
+//! maps, silhouette points, blocker culling), then `ambient`, the optional `g-buffer`, per
+//! recorded light its technique's passes and lighting plus the diagnostics asked for, and
+//! `readback`. Each pass names the images it uses; the graph emits the barriers, labels and
+//! timestamps (`crate::frame`).
+
+use super::lights::{LightBindings, LightFrame, LightQueries};
+use super::Renderer;
+use crate::forward::PassBounds;
+use crate::frame::{FrameGraph, PassId, QueryId, Stage, StageResults, Use};
+use crate::gpu_scene::GpuScene;
+use crate::hybrid::cull::CullingPlan;
+use crate::hybrid::frame as hybrid_frame;
+use crate::hybrid::pass::HybridLight;
+use crate::plan::{tally, CullReason};
+use crate::shadow_volume::pass::VolumeBindings;
+use crate::streams::Streams;
+use crate::RenderResult;
+use umbra_scene::Scene;
+use umbra_vk::{Buffer, ColorAttachment, DepthAttachment, ImageState, RenderTargets};
+
+use ImageState::{ColorAttachment as Color, DepthStencilAttachment as Depth, FragmentRead as Read};
+
+/// What every pass of a frame reads.
+#[derive(Clone, Copy)]
+pub(super) struct FrameInputs<'a> {
+    pub scene: &'a Scene,
+    pub gpu: &'a GpuScene,
+    pub lights: &'a [LightFrame],
+    pub bindings: &'a [LightBindings],
+    /// The frame's silhouette edges and shadow-volume vertices (none when empty).
+    pub edges: Option<&'a Buffer>,
+    pub volumes: Option<&'a Buffer>,
+}
+
+/// What running a frame's passes returned.
+pub(super) struct FrameRun {
+    /// Every submission's results, in order (the last holds the lighting passes' queries).
+    pub stages: Vec<StageResults>,
+    /// Per light, its queries in the last stage.
+    pub queries: Vec<LightQueries>,
+    /// Whether a pass drew into the overdraw image.
+    pub overdraw: bool,
+}
+
+impl Renderer {
+    /// Declares and runs the frame: the views, then (after a submission that reads blocker
+    /// culling's queries back and drops the hidden casters, when there are boxes) the lighting.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn run_frame(
+        &self,
+        graph: &mut FrameGraph,
+        scene: &Scene,
+        gpu: &GpuScene,
+        lights: &mut [LightFrame],
+        bindings: &[LightBindings],
+        streams: &Streams,
+        mut culling: CullingPlan,
+    ) -> RenderResult<FrameRun> {
+        graph.begin_frame();
+        let (edges, volumes) = (streams.edges.filled(), streams.volumes.filled());
+        let mut stages = Vec::new();
+        let boxes = streams.blockers.filled().filter(|_| !culling.boxes.is_empty());
+        if let Some(boxes) = boxes {
+            let f = FrameInputs { scene, gpu, lights, bindings, edges, volumes };
+            let mut views = graph.stage("frame: views and blocker culling");
+            self.declare_views(&mut views, f)?;
+            let first = self.declare_culling(&mut views, f, &culling, boxes)?;
+            let done = graph.run(&self.ctx, views)?;
+            let visible: Vec<u64> =
+                (0..culling.boxes.len() as u32).map(|i| done.samples(QueryId(first.0 + i))).collect();
+            for (l, caster) in culling.apply(&visible) {
+                if let Some(v) = lights[l].volumes.as_mut() {
+                    v.casters.remove(caster);
+                }
+            }
+            stages.push(done);
+        }
+        for light in lights.iter_mut() {
+            if let Some(v) = &light.volumes {
+                light.plan.shadow_volume = Some(v.report(scene));
+            }
+            light.culled_blockers = culling.culled(light.light());
+            if let Some(n) = light.culled_blockers {
+                tally(&mut light.plan.culled, CullReason::HiddenBlocker, n);
+            }
+        }
+        let f = FrameInputs { scene, gpu, lights, bindings, edges, volumes };
+        let mut stage = graph.stage("frame");
+        if stages.is_empty() {
+            self.declare_views(&mut stage, f)?;
+        }
+        let (queries, overdraw) = self.declare_lighting(&mut stage, f)?;
+        stages.push(graph.run(&self.ctx, stage)?);
+        Ok(FrameRun { stages, queries, overdraw })
+    }
+
+    /// The lights' views: per recorded light its shadow map and silhouette points.
+    fn declare_views<'a>(&'a self, stage: &mut Stage<'a>, f: FrameInputs<'a>) -> RenderResult<()> {
+        for light in f.lights.iter().filter(|l| l.plan.recorded) {
+            let l = light.light();
+            let Some(map) = &light.map else { continue };
+            let image = self.shadow_map.image(l)?;
+            stage.pass(PassId::ShadowMap(l), &[Use::Image(image, Depth)], move |cx| {
+                let (views, first_view) = (&map.views, map.shadow.first_view);
+                self.shadow_map.record(
+                    cx.rec,
+                    &self.layout,
+                    f.gpu,
+                    f.scene,
+                    l,
+                    views,
+                    first_view,
+                    map.bias_clamp,
+                    cx.log,
+                )
+            });
+            let (Some(e), Some(depth_set)) = (light.edges, &f.bindings[l].depth_set) else { continue };
+            let target = self.silhouette_map.image(Some(l));
+            stage.pass(PassId::SilhouetteMap(l), &[Use::Image(target, Color), Use::Image(image, Read)], move |cx| {
+                self.silhouette_map.record_points(cx.rec, &self.layout, f.gpu, depth_set, l, f.edges, e, cx.log)
+            });
+        }
+        Ok(())
+    }
+
+    /// Blocker culling: every hybrid light's boxes against its map, a query per box (in
+    /// `culling.boxes` order, from the returned query on).
+    fn declare_culling<'a>(
+        &'a self,
+        stage: &mut Stage<'a>,
+        f: FrameInputs<'a>,
+        culling: &CullingPlan,
+        boxes: &'a Buffer,
+    ) -> RenderResult<QueryId> {
+        let first = stage.queries(culling.boxes.len() as u32);
+        let mut ranges = Vec::new();
+        let mut start = 0;
+        for light in f.lights.iter().filter(|l| l.hybrid()) {
+            let l = light.light();
+            let n = culling.boxes.iter().filter(|(b, _)| *b == l).count() as u32;
+            if let (Some(map), true) = (&light.map, n > 0) {
+                ranges.push((self.shadow_map.image(l)?, start..start + n, map.shadow.first_view));
+                start += n;
+            }
+        }
+        let uses: Vec<Use> = ranges.iter().map(|(map, ..)| Use::Image(map, ImageState::DepthStencilReadOnly)).collect();
+        stage.pass(PassId::BlockerCulling, &uses, move |cx| {
+            for (map, range, view) in ranges {
+                let query = QueryId(first.0 + range.start);
+                self.hybrid.record_culling(cx, &self.layout, f.gpu, map, boxes, range, view, query);
+            }
+            Ok(())
+        });
+        Ok(first)
+    }
+
+    /// `ambient`, `g-buffer`, every recorded light's passes, `readback`; returns each light's
+    /// queries and whether the overdraw image was drawn.
+    fn declare_lighting<'a>(
+        &'a self,
+        stage: &mut Stage<'a>,
+        f: FrameInputs<'a>,
+    ) -> RenderResult<(Vec<LightQueries>, bool)> {
+        let (color, depth) = (&self.color, &self.depth);
+        stage.pass(PassId::Ambient, &[Use::Image(color, Color), Use::Image(depth, Depth)], move |cx| {
+            let bg = f.scene.background;
+            let clear = [ColorAttachment { image: color, clear: Some([bg.x, bg.y, bg.z, 1.0]) }];
+            let depth = DepthAttachment {
+                image: depth,
+                view: None,
+                clear: Some((1.0, 0)),
+                clear_stencil: None,
+                read_only: false,
+            };
+            cx.rec.begin_rendering(&RenderTargets { color: &clear, depth: Some(depth) });
+            self.forward.record_ambient(cx.rec, &self.layout, f.gpu, f.scene, cx.log);
+            cx.rec.end_rendering();
+            Ok(())
+        });
+        if let Some(g) = &self.gbuffer {
+            stage.pass(PassId::GBuffer, &[&g.uses()[..], &[Use::Image(depth, Depth)]].concat(), move |cx| {
+                g.record(cx, &self.layout, f.gpu, f.scene, depth);
+                Ok(())
+            });
+        }
+        let mut queries = vec![LightQueries::default(); f.lights.len()];
+        let mut overdraw = false;
+        for light in f.lights.iter().filter(|l| l.plan.recorded) {
+            let l = light.light();
+            let Some(shadow_set) = &f.bindings[l].shadow_set else { continue };
+            let reads = self.light_reads(light)?;
+            match (&light.map, &light.volumes) {
+                (Some(_), Some(v)) if light.hybrid() => {
+                    let h = HybridLight {
+                        light: l,
+                        mask: self.mask,
+                        layout: &self.layout,
+                        gpu: f.gpu,
+                        scene: f.scene,
+                        shadow_set,
+                        color,
+                        depth,
+                        volumes: v,
+                        vertices: f.volumes,
+                        zfail: self.shadow_volume.zfail(),
+                        mask_query: QueryId(0),
+                    };
+                    let map = self.shadow_map.image(l)?;
+                    let readback = f.bindings[l].class_readback.as_ref();
+                    let fragments = self.overdraw.is_some();
+                    queries[l].hybrid =
+                        Some(hybrid_frame::declare_light(stage, &self.hybrid, h, map, fragments, readback));
+                }
+                _ => self.declare_light(stage, f, light, shadow_set, &reads),
+            }
+            self.declare_light_diagnostics(stage, f, light, &reads);
+            queries[l].volume_fragments = self.declare_overdraw(stage, f, light, !overdraw);
+            overdraw |= queries[l].volume_fragments.is_some();
+            self.declare_silhouette_diagnostics(stage, f, light, &reads);
+        }
+        self.declare_readback(stage, overdraw);
+        Ok((queries, overdraw))
+    }
+
+    /// The images a light's lighting passes sample: its shadow map and silhouette map.
+    fn light_reads(&self, light: &LightFrame) -> RenderResult<Vec<Use<'_>>> {
+        let mut reads = Vec::new();
+        if light.map.is_some() {
+            reads.push(Use::Image(self.shadow_map.image(light.light())?, Read));
+        }
+        if light.edges.is_some() {
+            reads.push(Use::Image(self.silhouette_map.image(Some(light.light())), Read));
+        }
+        Ok(reads)
+    }
+
+    /// A light lit by the forward pass: its stencil counts first when it has volumes
+    /// (`shadow_volume N`), then `light N (kind)` with the map, silhouette-map or stencil test.
+    fn declare_light<'a>(
+        &'a self,
+        stage: &mut Stage<'a>,
+        f: FrameInputs<'a>,
+        light: &'a LightFrame,
+        shadow_set: &'a umbra_vk::DescriptorSet,
+        reads: &[Use<'a>],
+    ) {
+        let (l, plan) = (light.light(), &light.plan);
+        let bounds = PassBounds { scissor: plan.scissor, depth: plan.depth_bounds };
+        let volumes = light.volumes.as_ref().zip(f.volumes);
+        let depth = &self.depth;
+        if let Some((v, vertices)) = volumes {
+            stage.pass(PassId::ShadowVolume(l), &[Use::Image(depth, Depth)], move |cx| {
+                let keep =
+                    DepthAttachment { image: depth, view: None, clear: None, clear_stencil: Some(0), read_only: false };
+                cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(keep) });
+                let b = VolumeBindings { layout: &self.layout, gpu: f.gpu, vertices };
+                self.shadow_volume.record_stencil(cx.rec, b, v, l as u32, bounds, cx.log);
+                cx.rec.end_rendering();
+                Ok(())
+            });
+        }
+        let uses = [&[Use::Image(&self.color, Color), Use::Image(depth, Depth)], reads].concat();
+        stage.pass(PassId::Light(l, plan.kind), &uses, move |cx| {
+            let color = [ColorAttachment { image: &self.color, clear: None }];
+            cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(keep(depth)) });
+            // Test the stencil only after this light's own stencil pass (which cleared it).
+            let stenciled = volumes.is_some();
+            let (layout, light) = (&self.layout, l as u32);
+            self.forward.record_light(cx.rec, layout, f.gpu, shadow_set, f.scene, light, stenciled, bounds, cx.log);
+            cx.rec.end_rendering();
+            Ok(())
+        });
+    }
+
+    /// With diagnostics, a shadow-map or shadow-volume light's classification (and the
+    /// stencil that decides a shadow-volume light's pixels), copied out.
+    fn declare_light_diagnostics<'a>(
+        &'a self,
+        stage: &mut Stage<'a>,
+        f: FrameInputs<'a>,
+        light: &'a LightFrame,
+        reads: &[Use<'a>],
+    ) {
+        let l = light.light();
+        let (Some(targets), Some(out), false) =
+            (&self.diagnostic_targets, &f.bindings[l].class_readback, light.hybrid())
+        else {
+            return;
+        };
+        let Some(shadow_set) = &f.bindings[l].shadow_set else { return };
+        let (class, depth) = (&targets.classification, &self.depth);
+        let mut uses = vec![Use::Image(class, Color), Use::Image(depth, Depth), Use::Readback(&out.classes)];
+        uses.extend(out.stencil.as_ref().map(Use::Readback));
+        uses.extend_from_slice(reads);
+        stage.pass(PassId::LightDiagnostics(l), &uses, move |cx| {
+            let color = [ColorAttachment { image: class, clear: Some([0.0; 4]) }];
+            cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(keep(depth)) });
+            self.forward.record_classes(cx.rec, &self.layout, f.gpu, shadow_set, f.scene, l as u32, cx.log);
+            cx.rec.end_rendering();
+            cx.enter(&[(class, ImageState::TransferSrc)]);
+            cx.rec.copy_image_to_buffer(class, 0, &out.classes);
+            if let Some(stencil) = &out.stencil {
+                cx.enter(&[(depth, ImageState::TransferSrc)]);
+                cx.rec.copy_stencil_to_buffer(depth, stencil);
+            }
+            Ok(())
+        });
+    }
+
+    /// With `overdraw`, a light's volumes into the overdraw image (cleared by the `first`),
+    /// counted by the returned query.
+    fn declare_overdraw<'a>(
+        &'a self,
+        stage: &mut Stage<'a>,
+        f: FrameInputs<'a>,
+        light: &'a LightFrame,
+        first: bool,
+    ) -> Option<QueryId> {
+        let ((image, _), v, vertices) = (self.overdraw.as_ref()?, light.volumes.as_ref()?, f.volumes?);
+        let l = light.light();
+        let query = stage.queries(1);
+        stage.pass(PassId::VolumeOverdraw(l), &[Use::Image(image, Color)], move |cx| {
+            let clear = first.then_some([0.0; 4]);
+            cx.rec.begin_rendering(&RenderTargets { color: &[ColorAttachment { image, clear }], depth: None });
+            cx.begin_query(query);
+            let b = VolumeBindings { layout: &self.layout, gpu: f.gpu, vertices };
+            self.shadow_volume.record_overdraw(cx.rec, b, v, l as u32, cx.log);
+            cx.end_query(query);
+            cx.rec.end_rendering();
+            Ok(())
+        });
+        Some(query)
+    }
+
+    /// With diagnostics, a silhouette-map light's classification and silhouette points over
+    /// the frame's depth, copied out with its silhouette map.
+    fn declare_silhouette_diagnostics<'a>(
+        &'a self,
+        stage: &mut Stage<'a>,
+        f: FrameInputs<'a>,
+        light: &'a LightFrame,
+        reads: &[Use<'a>],
+    ) {
+        let l = light.light();
+        let (Some(targets), Some(out), Some(shadow_set)) =
+            (&self.diagnostic_targets, &f.bindings[l].silhouette_readback, &f.bindings[l].shadow_set)
+        else {
+            return;
+        };
+        let (class, points, depth) = (&targets.classification, &targets.points, &self.depth);
+        let silmap = self.silhouette_map.image(Some(l));
+        let mut uses = vec![Use::Image(class, Color), Use::Image(points, Color), Use::Image(depth, Depth)];
+        uses.extend_from_slice(reads);
+        uses.extend([
+            Use::Readback(&out.classification),
+            Use::Readback(&out.points),
+            Use::Readback(&out.silhouette_map),
+        ]);
+        stage.pass(PassId::SilhouetteDiagnostics(l), &uses, move |cx| {
+            let color = [
+                ColorAttachment { image: class, clear: Some(crate::diagnostics::BACKGROUND) },
+                ColorAttachment { image: points, clear: Some([0.0; 4]) },
+            ];
+            cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(keep(depth)) });
+            self.silhouette_map.record_diagnostics(cx.rec, &self.layout, f.gpu, shadow_set, f.scene, l as u32, cx.log);
+            cx.rec.end_rendering();
+            let src = ImageState::TransferSrc;
+            cx.enter(&[(class, src), (points, src), (silmap, src)]);
+            cx.rec.copy_image_to_buffer(class, 0, &out.classification);
+            cx.rec.copy_image_to_buffer(points, 0, &out.points);
+            cx.rec.copy_image_to_buffer(silmap, 0, &out.silhouette_map);
+            Ok(())
+        });
+    }
+
+    /// `readback`: the colour target (and the overdraw image, when drawn) copied out.
+    fn declare_readback<'a>(&'a self, stage: &mut Stage<'a>, overdraw: bool) {
+        let src = ImageState::TransferSrc;
+        let mut uses = vec![Use::Image(&self.color, src), Use::Readback(&self.readback)];
+        let overdraw = self.overdraw.as_ref().filter(|_| overdraw);
+        if let Some((image, readback)) = overdraw {
+            uses.extend([Use::Image(image, src), Use::Readback(readback)]);
+        }
+        stage.pass(PassId::Readback, &uses, move |cx| {
+            cx.rec.copy_image_to_buffer(&self.color, 0, &self.readback);
+            if let Some((image, readback)) = overdraw {
+                cx.rec.copy_image_to_buffer(image, 0, readback);
+            }
+            Ok(())
+        });
+    }
+}
+
+/// Keeps depth and stencil of `image`, as an attachment.
+fn keep(image: &umbra_vk::Image) -> DepthAttachment<'_> {
+    DepthAttachment { image, view: None, clear: None, clear_stencil: None, read_only: false }
+}

@@ -1,0 +1,88 @@
+//! What one frame knows of each light, in one place per light (indexed by light), and what the
+//! whole frame shares: the camera and every object's bounds.
+
+use crate::diagnostics::{ClassReadback, DiagnosticReadback};
+use crate::frame::QueryId;
+use crate::gpu_scene::GpuShadow;
+use crate::hybrid::frame::HybridQueries;
+use crate::plan::LightPlan;
+use crate::shadow_map::frustum::LightViews;
+use crate::shadow_volume::build::LightVolumes;
+use crate::silhouette_map::edges::LightEdges;
+use glam::Mat4;
+use umbra_scene::{Aabb, Camera};
+use umbra_vk::DescriptorSet;
+
+/// The camera of a frame and the bounds every step uses.
+pub(super) struct FrameView {
+    /// The camera drawn with (`P_inf` when shadow volumes need it).
+    pub camera: Camera,
+    /// Its view-projection.
+    pub view_proj: Mat4,
+    /// Width over height.
+    pub aspect: f32,
+    /// Each object's world bounds (`Scene::object_bounds`).
+    pub boxes: Vec<Option<Aabb>>,
+}
+
+/// One light's shadow map this frame.
+pub(super) struct MapFrame {
+    /// Its views (one per layer) and the casters each draws.
+    pub views: LightViews,
+    /// Texels per side.
+    pub resolution: u32,
+    /// Whether it is also a silhouette map's depth map.
+    pub silhouette: bool,
+    /// What the lighting passes read of it.
+    pub shadow: GpuShadow,
+    /// Depth-bias clamp in map depth units (0: none, or no `depthBiasClamp`).
+    pub bias_clamp: f32,
+}
+
+/// One light in one frame: its plan and what its technique prepared.
+pub(super) struct LightFrame {
+    /// What the plan decided (and, once the frame ran, what the light's passes reported).
+    pub plan: LightPlan,
+    /// Its shadow map (shadow maps, silhouette maps, the hybrid).
+    pub map: Option<MapFrame>,
+    /// Its silhouette edges (silhouette maps).
+    pub edges: Option<LightEdges>,
+    /// Its volumes (shadow volumes, the hybrid), culled casters left out.
+    pub volumes: Option<LightVolumes>,
+    /// Casters blocker culling dropped, when its boxes were queried.
+    pub culled_blockers: Option<usize>,
+}
+
+impl LightFrame {
+    /// Index of the light.
+    pub fn light(&self) -> usize {
+        self.plan.light
+    }
+
+    /// Whether the hybrid's own passes run for it (a hybrid light with a map and volumes).
+    pub fn hybrid(&self) -> bool {
+        self.plan.technique == umbra_scene::Technique::Hybrid && self.map.is_some() && self.volumes.is_some()
+    }
+}
+
+/// One light's descriptor sets and readbacks this frame.
+#[derive(Default)]
+pub(super) struct LightBindings {
+    /// Set 1 of its lighting passes (recorded lights).
+    pub shadow_set: Option<DescriptorSet>,
+    /// Set 1 of its silhouette-point pass: the depth map raw, a placeholder for the map it writes.
+    pub depth_set: Option<DescriptorSet>,
+    /// Its silhouette-map diagnostics (silhouette-map lights, with diagnostics).
+    pub silhouette_readback: Option<DiagnosticReadback>,
+    /// Its classes (and stencil) diagnostics (shadow-map, shadow-volume and hybrid lights).
+    pub class_readback: Option<ClassReadback>,
+}
+
+/// The occlusion queries of one light, reserved when its passes were declared.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct LightQueries {
+    /// The hybrid's mask samples and masked fragments.
+    pub hybrid: Option<HybridQueries>,
+    /// Its volumes' fragments (with `overdraw`).
+    pub volume_fragments: Option<QueryId>,
+}

@@ -1,0 +1,211 @@
+//! The renderer: records a frame's passes into a headless target and reads the colour back.
+//!
+//! [`Renderer::render`] is the frame's table of contents: check the input, plan (`crate::plan`),
+//! prepare each light's technique on the CPU (`prepare.rs`), upload what changed and bind each
+//! light's maps (`bind.rs`), declare the passes into the frame graph and run them
+//! (`declare.rs`, `crate::frame`), then read back and report (`results.rs`). Every pass is a
+//! debug label with timestamps around it, emitted by the frame graph; the [`FrameReport`]
+//! lists them by name and the graph keys them by [`crate::frame::PassId`].
+
+mod bind;
+mod declare;
+mod desc;
+mod lights;
+mod prepare;
+mod results;
+
+pub use desc::{Frame, RendererDesc, COLOR_FORMAT};
+
+use crate::diagnostics::DiagnosticTargets;
+use crate::forward::Forward;
+use crate::frame::FrameGraph;
+use crate::gbuffer::GBufferPass;
+use crate::gpu_scene::{self, GpuScene, SceneCounts};
+use crate::hybrid::pass::HybridPass;
+use crate::hybrid::MaskKind;
+use crate::mesh_cache::MeshCache;
+use crate::shadow_map::pass::{self, ShadowMapPass};
+use crate::shadow_volume::pass::ShadowVolumePass;
+use crate::shadow_volume::FarPlane;
+use crate::silhouette_map::pass::SilhouetteMapPass;
+use crate::streams::Streams;
+use crate::RenderResult;
+use desc::{check_frame_size, depth_desc, frame_target};
+use std::time::Instant;
+use umbra_scene::Scene;
+use umbra_vk::{vk, Buffer, BufferDesc, Context, DescriptorSetLayout, Image, PipelineLayout};
+
+/// Renders scenes into a headless target of a fixed size.
+pub struct Renderer {
+    ctx: Context,
+    desc: RendererDesc,
+    color: Image,
+    depth: Image,
+    readback: Buffer,
+    scene_set_layout: DescriptorSetLayout,
+    shadow_set_layout: DescriptorSetLayout,
+    layout: PipelineLayout,
+    forward: Forward,
+    shadow_map: ShadowMapPass,
+    shadow_volume: ShadowVolumePass,
+    silhouette_map: SilhouetteMapPass,
+    hybrid: HybridPass,
+    /// The computation mask of hybrid lights (`desc.hybrid.mask`, or the device's best).
+    mask: MaskKind,
+    /// Classification and silhouette-point targets (with `diagnostics`).
+    diagnostic_targets: Option<DiagnosticTargets>,
+    /// Welded connectivity per mesh, kept while the mesh keeps its revision.
+    meshes: MeshCache,
+    /// The scene on the GPU from the frame before: its meshes, reused while every mesh keeps
+    /// its revision, and its per-frame buffers, rewritten in place.
+    gpu: Option<GpuScene>,
+    /// Per-frame vertex data (edges, volumes, blocker boxes), kept between frames.
+    streams: Streams,
+    /// The frame graph: its query pools, kept between frames.
+    graph: FrameGraph,
+    /// Volume overdraw target and its readback (with `shadow_volume.overdraw`).
+    overdraw: Option<(Image, Buffer)>,
+    /// The G-buffer pass (with `gbuffer`).
+    gbuffer: Option<GBufferPass>,
+}
+
+impl Renderer {
+    /// Creates the targets and pipelines, after checking `desc`: the shadow-map settings
+    /// ([`crate::ShadowMapSettings::validate`]) and the target size against every device limit of the
+    /// frame-sized images ([`crate::RenderError::InvalidSize`] naming the limit).
+    pub fn new(ctx: &Context, desc: RendererDesc) -> RenderResult<Self> {
+        let caps = ctx.capabilities();
+        desc.shadow_map.validate()?;
+        let depth_format = caps.depth_stencil_format;
+        if depth_format == vk::Format::UNDEFINED {
+            return Err(ctx.unsupported("any depth/stencil attachment format").into());
+        }
+        let mask = desc.hybrid.mask.unwrap_or(MaskKind::best_for(caps.depth_bounds));
+        if mask == MaskKind::DepthBounds && !caps.depth_bounds {
+            return Err(ctx.unsupported("the hybrid's depth-bounds computation mask (depthBounds)").into());
+        }
+        check_frame_size(ctx, &desc, depth_format, mask)?;
+        let color = frame_target(ctx, "colour target", desc.width, desc.height)?;
+        let depth = Image::new(ctx, "depth/stencil target", depth_desc(depth_format, desc.width, desc.height))?;
+        let readback =
+            Buffer::new(ctx, "colour readback", BufferDesc::readback(4 * desc.width as u64 * desc.height as u64))?;
+        let scene_set_layout = gpu_scene::scene_set_layout(ctx)?;
+        let shadow_set_layout = pass::shadow_set_layout(ctx)?;
+        let push = std::mem::size_of::<gpu_scene::DrawPush>() as u32;
+        let layout = PipelineLayout::new(ctx, "scene layout", &[&scene_set_layout, &shadow_set_layout], push)?;
+        // Bounded lights' depth bounds need the test in their pipelines.
+        let bounds = desc.cull && caps.depth_bounds;
+        let forward =
+            Forward::new(ctx, &layout, COLOR_FORMAT, depth_format, &desc.shadow_map, desc.diagnostics, bounds)?;
+        let shadow_map = ShadowMapPass::new(ctx, &layout, desc.shadow_map)?;
+        if desc.shadow_volume.far_plane == FarPlane::DepthClamp && !caps.depth_clamp {
+            return Err(ctx.unsupported("shadow volumes with FarPlane::DepthClamp (depthClamp)").into());
+        }
+        let shadow_volume = ShadowVolumePass::new(ctx, &layout, depth_format, &desc.shadow_volume, bounds)?;
+        let silhouette_map = SilhouetteMapPass::new(ctx, &layout, COLOR_FORMAT, depth_format, &desc.shadow_map)?;
+        let clamp = desc.shadow_volume.far_plane == FarPlane::DepthClamp;
+        let hybrid = HybridPass::new(ctx, &layout, COLOR_FORMAT, depth_format, &desc.shadow_map, clamp)?;
+        let diagnostic_targets = if desc.diagnostics {
+            Some(DiagnosticTargets {
+                classification: frame_target(ctx, "diagnostics: classification", desc.width, desc.height)?,
+                points: frame_target(ctx, "diagnostics: silhouette points", desc.width, desc.height)?,
+            })
+        } else {
+            None
+        };
+        let overdraw = if desc.shadow_volume.overdraw {
+            let image = frame_target(ctx, "volume overdraw", desc.width, desc.height)?;
+            let readback = Buffer::new(
+                ctx,
+                "overdraw readback",
+                BufferDesc::readback(4 * desc.width as u64 * desc.height as u64),
+            )?;
+            Some((image, readback))
+        } else {
+            None
+        };
+        let gbuffer = match desc.gbuffer {
+            true => Some(GBufferPass::new(ctx, &layout, depth_format, desc.width, desc.height)?),
+            false => None,
+        };
+        Ok(Self {
+            ctx: ctx.clone(),
+            desc,
+            color,
+            depth,
+            readback,
+            scene_set_layout,
+            shadow_set_layout,
+            layout,
+            forward,
+            shadow_map,
+            shadow_volume,
+            silhouette_map,
+            hybrid,
+            mask,
+            diagnostic_targets,
+            meshes: MeshCache::default(),
+            gpu: None,
+            streams: Streams::default(),
+            graph: FrameGraph::default(),
+            overdraw,
+            gbuffer,
+        })
+    }
+
+    /// Command buffers this renderer has submitted to the GPU so far (a frame whose scene is
+    /// rejected by validation submits none).
+    pub fn submissions(&self) -> u64 {
+        self.graph.submissions()
+    }
+
+    /// The target size and settings it was created with.
+    pub fn desc(&self) -> RendererDesc {
+        self.desc
+    }
+
+    /// The computation mask hybrid lights use on this device.
+    pub fn mask(&self) -> MaskKind {
+        self.mask
+    }
+
+    /// Renders one frame of `scene` and reads it back.
+    pub fn render(&mut self, scene: &Scene) -> RenderResult<Frame> {
+        let started = Instant::now();
+        let allocations_before = self.ctx.memory_allocations();
+        // 1. A typed error, before any GPU work, for non-finite or out-of-range input, and for
+        //    more objects or lights than the device's buffers can bind.
+        scene.validate()?;
+        gpu_scene::check_limits(self.ctx.capabilities(), SceneCounts::of(scene, 0))?;
+        // 2. Plan: per light, what to record and which casters enter its passes.
+        let view = self.frame_view(scene);
+        let mut lights = self.plan(scene, &view)?;
+        // 3. Prepare each light's technique on the CPU: map views and maps, silhouette edges,
+        //    volumes, blocker boxes (welded connectivity cached per mesh revision).
+        let adjacency = self.meshes.adjacency(scene)?;
+        let mut streams = std::mem::take(&mut self.streams);
+        let shadow_views = self.prepare_maps(scene, &view, &adjacency, &mut lights, &mut streams)?;
+        self.prepare_volumes(scene, &view, &adjacency, &mut lights, &mut streams)?;
+        let culling = self.plan_culling(scene, &view, &lights, &mut streams)?;
+        // 4. Upload what changed; bind each light's maps; make the readbacks.
+        let gpu = self.upload(scene, &view, &lights, &shadow_views)?;
+        let bindings = self.bind(&lights)?;
+        // 5. Declare the passes and run them: one submission, two with blocker culling. The
+        //    readback is poisoned first so that a copy that never happened cannot pass for a frame.
+        self.readback.write(0, &vec![0xCD; self.readback.desc.size as usize])?;
+        let mut graph = std::mem::take(&mut self.graph);
+        let frame = self.run_frame(&mut graph, scene, &gpu, &mut lights, &bindings, &streams, culling);
+        self.graph = graph;
+        let ran = frame?;
+        let geometry_uploaded_bytes = gpu.geometry_uploaded;
+        // Kept for the next frame: its meshes, per-frame buffers and vertex streams are reused.
+        self.gpu = Some(gpu);
+        self.streams = streams;
+        // 6. Read back and report.
+        let mut frame = self.finish(scene, &adjacency, lights, &bindings, ran)?;
+        frame.report.cpu_frame_ms = started.elapsed().as_secs_f64() * 1e3;
+        frame.report.geometry_uploaded_bytes = geometry_uploaded_bytes;
+        frame.report.memory_allocations = self.ctx.memory_allocations() - allocations_before;
+        Ok(frame)
+    }
+}

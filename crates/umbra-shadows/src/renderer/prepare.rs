@@ -1,0 +1,294 @@
+//! The CPU half of a frame, per light and per technique: plan, fit and size the shadow maps
+//! (checked against the device and the budget before any is made), extract silhouette edges,
+//! build shadow volumes, list blocker boxes, and upload what changed.
+
+use super::lights::{FrameView, LightFrame, MapFrame};
+use super::Renderer;
+use crate::budget::{self, ShadowStorage};
+use crate::gpu_scene::{GpuScene, GpuShadow};
+use crate::hybrid::cull::{self, CullingPlan};
+use crate::hybrid::{HybridSettings, MaskKind};
+use crate::plan::SILHOUETTE_CUBE_UNSUPPORTED;
+use crate::plan::{plan_frame, tally, CullReason, PlanInput, ShadowMapReport, SilhouetteMapReport};
+use crate::shadow_map::frustum::{self, LightViews, MapKind};
+use crate::shadow_map::DepthBias;
+use crate::shadow_volume::build::{self as volumes};
+use crate::shadow_volume::{FarPlane, VolumeMode};
+use crate::silhouette_map::edges;
+use crate::streams::Streams;
+use crate::{RenderError, RenderResult};
+use glam::Mat4;
+use std::sync::Arc;
+use umbra_scene::{Adjacency, Scene, Technique};
+
+impl Renderer {
+    /// The camera and bounds of a frame of `scene`. Shadow volumes reach infinity: the frame
+    /// uses `P_inf` unless depth clamp does the job, decided from what the scene asks for
+    /// (`auto` may pick the hybrid), not from the plan, so that culling never changes the depth.
+    pub(super) fn frame_view(&self, scene: &Scene) -> FrameView {
+        let aspect = self.desc.width as f32 / self.desc.height as f32;
+        let asks_volumes = scene
+            .lights
+            .iter()
+            .any(|l| matches!(l.technique, Technique::ShadowVolume | Technique::Hybrid | Technique::Auto));
+        let camera = match asks_volumes {
+            true => volumes::volume_camera(&scene.camera, self.desc.shadow_volume.far_plane == FarPlane::Infinite),
+            false => scene.camera,
+        };
+        FrameView { view_proj: camera.view_proj(aspect), camera, aspect, boxes: scene.object_bounds() }
+    }
+
+    /// Per light, what to record and which casters enter its passes (`crate::plan`).
+    pub(super) fn plan(&self, scene: &Scene, view: &FrameView) -> RenderResult<Vec<LightFrame>> {
+        let plans = plan_frame(
+            scene,
+            &PlanInput {
+                boxes: &view.boxes,
+                camera: &view.camera,
+                size: (self.desc.width, self.desc.height),
+                cull: self.desc.cull,
+                depth_bounds: self.desc.cull && self.ctx.capabilities().depth_bounds,
+                map_resolution: self.shadow_map.settings().resolution,
+            },
+        )?;
+        Ok(plans
+            .into_iter()
+            .map(|plan| LightFrame { plan, map: None, edges: None, volumes: None, culled_blockers: None })
+            .collect())
+    }
+
+    /// Shadow maps (also the depth maps of silhouette maps and the hybrid): every light's views
+    /// and map size, each checked against the device and all together against the budget, then
+    /// the maps themselves and, for silhouette maps, the edges. Returns every map's views, in
+    /// light order (the shadow-view buffer).
+    pub(super) fn prepare_maps(
+        &mut self,
+        scene: &Scene,
+        view: &FrameView,
+        adjacency: &[Arc<Adjacency>],
+        lights: &mut [LightFrame],
+        streams: &mut Streams,
+    ) -> RenderResult<Vec<Mat4>> {
+        let mut fitted = self.fit_maps(scene, view, lights)?;
+        let keep: Vec<bool> = fitted.iter().map(Option::is_some).collect();
+        self.shadow_map.keep_only(&keep);
+        let silhouette: Vec<bool> = fitted.iter().map(|m| m.as_ref().is_some_and(|m| m.silhouette)).collect();
+        self.silhouette_map.keep_only(&silhouette);
+        let settings = *self.shadow_map.settings();
+        let mut shadow_views = Vec::new();
+        let mut edge_instances = Vec::new();
+        for (light, map) in lights.iter_mut().zip(&mut fitted) {
+            let Some(mut map) = map.take() else { continue };
+            let (l, resolution, views) = (light.light(), map.resolution, &map.views);
+            let source = &scene.lights[l];
+            self.shadow_map.prepare(&self.ctx, l, resolution, views.kind)?;
+            map.shadow = GpuShadow {
+                kind: match (views.kind, map.silhouette) {
+                    (MapKind::Cube, _) => 2,
+                    (MapKind::Single, false) => 1,
+                    (MapKind::Single, true) => 3,
+                },
+                first_view: shadow_views.len() as u32,
+                normal_offset: settings.normal_offset,
+                texel: 1.0 / resolution as f32,
+                near: views.near,
+                far: views.far,
+            };
+            light.plan.shadow_map = Some(ShadowMapReport {
+                resolution,
+                cube: views.kind == MapKind::Cube,
+                near: views.near,
+                far: views.far,
+                casters: views.casters.len(),
+                texel_size: (source.position.w == 0.0).then(|| frustum::texel_size(views.views[0], resolution)),
+                view_proj: views.views.clone(),
+            });
+            if map.silhouette {
+                self.silhouette_map.prepare(&self.ctx, l, resolution)?;
+                let e = edges::extract(scene, adjacency, &views.casters, source, &mut edge_instances);
+                light.plan.silhouette_map = Some(SilhouetteMapReport {
+                    resolution,
+                    silhouette_edges: e.count as usize,
+                    cpu_extract_ms: e.cpu_ms,
+                    silhouette_pixels: None,
+                    silhouette_fraction: None,
+                });
+                light.edges = Some(e);
+            }
+            let clamp_texels = match (settings.bias.clamp_texels, map.silhouette) {
+                (Some(t), _) => Some(t),
+                (None, true) => Some(DepthBias::SILHOUETTE_CLAMP_TEXELS),
+                (None, false) => None,
+            };
+            if let (Some(texels), true) = (clamp_texels, self.ctx.capabilities().depth_bias_clamp) {
+                map.bias_clamp = frustum::bias_clamp(views.views[0], resolution, texels);
+            }
+            shadow_views.extend_from_slice(&views.views);
+            light.map = Some(map);
+        }
+        streams.edges.fill(&self.ctx, &edge_instances)?;
+        Ok(shadow_views)
+    }
+
+    /// Every map-using light's views and map size, checked against the device, and what they
+    /// take together against the budget; nothing is allocated here.
+    fn fit_maps(
+        &self,
+        scene: &Scene,
+        view: &FrameView,
+        lights: &mut [LightFrame],
+    ) -> RenderResult<Vec<Option<MapFrame>>> {
+        let settings = *self.shadow_map.settings();
+        let hybrid_resolution = HybridSettings::default_resolution(self.desc.width, self.desc.height);
+        let uses_map = |l: &LightFrame| {
+            let t = l.plan.technique;
+            l.plan.recorded
+                && l.plan.shadowed
+                && matches!(t, Technique::ShadowMap | Technique::SilhouetteMap | Technique::Hybrid)
+        };
+        let mut fitted: Vec<Option<MapFrame>> = (0..lights.len()).map(|_| None).collect();
+        let mut storage = Vec::new();
+        for light in lights.iter_mut().filter(|l| uses_map(l)) {
+            let plan = &mut light.plan;
+            let source = &scene.lights[plan.light];
+            let Some(mut views) = frustum::fit(source, scene, &view.boxes, view.view_proj) else {
+                plan.note = Some("no caster can shadow a visible receiver: no shadow map rendered".into());
+                continue;
+            };
+            if self.desc.cull {
+                // The fit saw every caster (so the map's frustum is the same either way); only
+                // the planned ones are drawn, each into the views it may touch.
+                views.casters.retain(|c| plan.map_casters.contains(c));
+                let out = views.cull_per_view(&view.boxes);
+                tally(&mut plan.culled, CullReason::OutsideMapView, out);
+            }
+            let silhouette = plan.technique == Technique::SilhouetteMap;
+            if silhouette && views.kind == MapKind::Cube {
+                return Err(RenderError::UnsupportedLight {
+                    light: plan.light,
+                    technique: plan.technique,
+                    why: SILHOUETTE_CUBE_UNSUPPORTED.into(),
+                });
+            }
+            let resolution = source.shadow_map_size.unwrap_or(match plan.technique {
+                Technique::Hybrid => self.desc.hybrid.resolution.unwrap_or(hybrid_resolution),
+                _ => settings.resolution,
+            });
+            let mut bytes = self.shadow_map.check(&self.ctx, plan.light, resolution, views.kind)?;
+            if silhouette {
+                let map = self.silhouette_map.check(&self.ctx, plan.light, resolution)?;
+                // With diagnostics the map is also read back, as many bytes again.
+                bytes += if self.diagnostic_targets.is_some() { 2 * map } else { map };
+            }
+            let cube = views.kind == MapKind::Cube;
+            storage.push(ShadowStorage { light: plan.light, resolution, cube, silhouette, bytes });
+            fitted[plan.light] = Some(map_frame(views, resolution, silhouette));
+        }
+        budget::check(&storage, self.desc.shadow_map_budget_bytes)?;
+        Ok(fitted)
+    }
+
+    /// Shadow volumes: every caster's volume per light, built on the CPU (z-fail only for
+    /// hybrid lights, Chan–Durand §3 step 3; none for a hybrid light without a map).
+    pub(super) fn prepare_volumes(
+        &self,
+        scene: &Scene,
+        view: &FrameView,
+        adjacency: &[Arc<Adjacency>],
+        lights: &mut [LightFrame],
+        streams: &mut Streams,
+    ) -> RenderResult<()> {
+        let mut vertices = Vec::new();
+        for light in lights.iter_mut() {
+            let plan = &light.plan;
+            let shadowed = plan.recorded && plan.shadowed;
+            let wants = match plan.technique {
+                Technique::ShadowVolume => shadowed,
+                Technique::Hybrid => shadowed && light.map.is_some(),
+                _ => false,
+            };
+            if !wants {
+                continue;
+            }
+            let mode =
+                if plan.technique == Technique::Hybrid { VolumeMode::ZFail } else { self.desc.shadow_volume.mode };
+            let source = &scene.lights[plan.light];
+            let (boxes, camera) = (&view.boxes, &view.camera);
+            let v = volumes::build_light(
+                scene,
+                &plan.volume_casters,
+                adjacency,
+                boxes,
+                source,
+                camera,
+                view.aspect,
+                mode,
+                &mut vertices,
+            );
+            light.volumes = Some(v);
+        }
+        streams.volumes.fill(&self.ctx, &vertices)?;
+        Ok(())
+    }
+
+    /// Blocker culling (Chan–Durand §6.3, with `hybrid.cull_blockers`): one box per caster of
+    /// every hybrid light with a 2D map.
+    pub(super) fn plan_culling(
+        &self,
+        scene: &Scene,
+        view: &FrameView,
+        lights: &[LightFrame],
+        streams: &mut Streams,
+    ) -> RenderResult<CullingPlan> {
+        let mut culling = CullingPlan::default();
+        if self.desc.hybrid.cull_blockers && self.desc.cull {
+            for light in lights.iter().filter(|l| l.hybrid()) {
+                let (Some(v), Some(map)) = (&light.volumes, &light.map) else { continue };
+                if map.views.kind != MapKind::Single {
+                    continue;
+                }
+                for (i, c) in v.casters.iter().enumerate() {
+                    if let Some(b) = view.boxes.get(c.object).copied().flatten() {
+                        if cull::queryable(&scene.lights[light.light()], &b) {
+                            cull::box_triangles(&b, &mut culling.vertices);
+                            culling.boxes.push((light.light(), i));
+                        }
+                    }
+                }
+            }
+        }
+        streams.blockers.fill(&self.ctx, &culling.vertices)?;
+        Ok(culling)
+    }
+
+    /// The scene on the GPU: meshes uploaded again only when one changed, per-frame buffers
+    /// rewritten in place; and the hybrid's frame-sized targets when a light needs them.
+    pub(super) fn upload(
+        &mut self,
+        scene: &Scene,
+        view: &FrameView,
+        lights: &[LightFrame],
+        shadow_views: &[Mat4],
+    ) -> RenderResult<GpuScene> {
+        if lights.iter().any(LightFrame::hybrid) {
+            let masked_depth = self.mask == MaskKind::DepthBounds;
+            self.hybrid.prepare(&self.ctx, self.desc.width, self.desc.height, masked_depth)?;
+        }
+        let shadows: Vec<GpuShadow> =
+            lights.iter().map(|l| l.map.as_ref().map_or_else(GpuShadow::default, |m| m.shadow)).collect();
+        GpuScene::upload(
+            &self.ctx,
+            &self.scene_set_layout,
+            scene,
+            &view.camera,
+            view.aspect,
+            &shadows,
+            shadow_views,
+            self.gpu.take(),
+        )
+    }
+}
+
+fn map_frame(views: LightViews, resolution: u32, silhouette: bool) -> MapFrame {
+    MapFrame { views, resolution, silhouette, shadow: GpuShadow::default(), bias_clamp: 0.0 }
+}
