@@ -28,6 +28,7 @@ pub mod shadow_map;
 pub mod shadow_volume;
 pub mod silhouette_map;
 mod streams;
+mod technique;
 mod timing;
 
 pub use budget::{ShadowStorage, DEFAULT_SHADOW_MAP_BUDGET};

@@ -25,6 +25,7 @@
 use crate::hybrid::MaskKind;
 use crate::reach::{self, Clip, Planes, Unreached};
 use crate::shadow_map::frustum;
+use crate::technique::{needs, Casters};
 use crate::{RenderError, RenderResult};
 use glam::{Mat4, Vec3, Vec4Swizzles};
 use serde::Serialize;
@@ -319,7 +320,7 @@ fn plan_light(
         auto_choice: None,
         recorded: true,
         skipped_because: None,
-        shadowed: l.technique != Technique::Unshadowed,
+        shadowed: needs(l.technique).shadows,
         unshadowed_because: None,
         culled: Vec::new(),
         scissor: None,
@@ -342,12 +343,8 @@ fn plan_light(
         plan.technique = technique;
         plan.auto_choice = Some(why);
     }
-    if plan.technique == Technique::SilhouetteMap && l.kind() == LightKind::Point {
-        return Err(RenderError::UnsupportedLight {
-            light: i,
-            technique: plan.technique,
-            why: SILHOUETTE_CUBE_UNSUPPORTED.into(),
-        });
+    if let Some(why) = (needs(plan.technique).unsupported)(l.kind()) {
+        return Err(RenderError::UnsupportedLight { light: i, technique: plan.technique, why: why.into() });
     }
     if !input.cull {
         plan.map_casters = casters.clone();
@@ -375,7 +372,7 @@ fn plan_light(
         plan.skipped_because = Some(why.into());
         return Ok(plan);
     }
-    if let (Some(f), false) = (reach::footprint(l, input.camera, width, height), plan.technique == Technique::Hybrid) {
+    if let (Some(f), false) = (reach::footprint(l, input.camera, width, height), !needs(plan.technique).bounded) {
         plan.scissor = Some(f.scissor);
         plan.depth_bounds = input.depth_bounds.then_some(f.depth);
     }
@@ -411,7 +408,7 @@ fn pick_casters(
         Unreached::Range => CullReason::OutsideRange,
         Unreached::Cone => CullReason::OutsideCone,
     };
-    let volumes = matches!(plan.technique, Technique::ShadowVolume | Technique::Hybrid);
+    let volumes = needs(plan.technique).volumes.is_some();
     let mut out = Vec::new();
     for &c in casters {
         let Some(b) = input.boxes.get(c).copied().flatten() else { continue };
@@ -426,9 +423,9 @@ fn pick_casters(
         tally(&mut plan.culled, r, culled.iter().filter(|&&c| c == r).count());
     }
     let receives = lit_in_view.iter().any(|&o| scene.objects[o].receives_shadows);
-    let needed = match plan.technique {
-        Technique::ShadowVolume => &plan.volume_casters,
-        _ => &plan.map_casters,
+    let needed = match needs(plan.technique).casters {
+        Casters::Volumes => &plan.volume_casters,
+        Casters::Map | Casters::None => &plan.map_casters,
     };
     let unshadowed = if !receives {
         Some("no visible object it reaches receives shadows")

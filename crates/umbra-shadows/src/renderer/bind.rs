@@ -4,8 +4,8 @@
 use super::lights::{LightBindings, LightFrame};
 use super::Renderer;
 use crate::diagnostics::{ClassReadback, DiagnosticReadback};
+use crate::technique::needs;
 use crate::RenderResult;
-use umbra_scene::Technique;
 
 impl Renderer {
     /// Binds every light of `lights` (after their maps were prepared).
@@ -37,7 +37,7 @@ impl Renderer {
                 out.silhouette_readback = Some(DiagnosticReadback::new(ctx, width, height, map)?);
             }
         }
-        let classified = plan.recorded && matches!(plan.technique, Technique::ShadowMap | Technique::ShadowVolume);
+        let classified = plan.recorded && needs(plan.technique).classified;
         if self.desc.diagnostics && (light.hybrid() || classified) {
             // The stencil too where it decides pixels: the hybrid's, a shadow-volume light's.
             let stencil = light.volumes.is_some();

@@ -10,14 +10,16 @@ use crate::forward::PassBounds;
 use crate::frame::{FrameGraph, PassId, QueryId, Stage, StageResults, Use};
 use crate::gpu_scene::GpuScene;
 use crate::hybrid::cull::CullingPlan;
-use crate::hybrid::frame as hybrid_frame;
+use crate::hybrid::frame::{self as hybrid_frame, HybridQueries};
 use crate::hybrid::pass::HybridLight;
 use crate::plan::{tally, CullReason};
+use crate::shadow_volume::build::LightVolumes;
 use crate::shadow_volume::pass::VolumeBindings;
 use crate::streams::Streams;
+use crate::technique::{needs, Lighting};
 use crate::RenderResult;
 use umbra_scene::Scene;
-use umbra_vk::{Buffer, ColorAttachment, DepthAttachment, ImageState, RenderTargets};
+use umbra_vk::{Buffer, ColorAttachment, DepthAttachment, DescriptorSet, ImageState, RenderTargets};
 
 use ImageState::{ColorAttachment as Color, DepthStencilAttachment as Depth, FragmentRead as Read};
 
@@ -190,29 +192,13 @@ impl Renderer {
             let l = light.light();
             let Some(shadow_set) = &f.bindings[l].shadow_set else { continue };
             let reads = self.light_reads(light)?;
-            match (&light.map, &light.volumes) {
-                (Some(_), Some(v)) if light.hybrid() => {
-                    let h = HybridLight {
-                        light: l,
-                        mask: self.mask,
-                        layout: &self.layout,
-                        gpu: f.gpu,
-                        scene: f.scene,
-                        shadow_set,
-                        color,
-                        depth,
-                        volumes: v,
-                        vertices: f.volumes,
-                        zfail: self.shadow_volume.zfail(),
-                        mask_query: QueryId(0),
-                    };
-                    let map = self.shadow_map.image(l)?;
-                    let readback = f.bindings[l].class_readback.as_ref();
-                    let fragments = self.overdraw.is_some();
-                    queries[l].hybrid =
-                        Some(hybrid_frame::declare_light(stage, &self.hybrid, h, map, fragments, readback));
+            // The technique seam's one dispatch of lighting passes (`crate::technique`).
+            match (needs(light.plan.technique).lighting, &light.volumes) {
+                (Lighting::Hybrid, Some(volumes)) if light.hybrid() => {
+                    queries[l].hybrid = Some(self.declare_hybrid(stage, f, light, volumes, shadow_set)?);
                 }
-                _ => self.declare_light(stage, f, light, shadow_set, &reads),
+                // A hybrid light without a map this frame is lit unshadowed.
+                (Lighting::Hybrid | Lighting::Forward, _) => self.declare_light(stage, f, light, shadow_set, &reads),
             }
             self.declare_light_diagnostics(stage, f, light, &reads);
             queries[l].volume_fragments = self.declare_overdraw(stage, f, light, !overdraw);
@@ -221,6 +207,35 @@ impl Renderer {
         }
         self.declare_readback(stage, overdraw);
         Ok((queries, overdraw))
+    }
+
+    /// A hybrid light's own passes (`hybrid::frame`), after its map.
+    fn declare_hybrid<'a>(
+        &'a self,
+        stage: &mut Stage<'a>,
+        f: FrameInputs<'a>,
+        light: &'a LightFrame,
+        volumes: &'a LightVolumes,
+        shadow_set: &'a DescriptorSet,
+    ) -> RenderResult<HybridQueries> {
+        let l = light.light();
+        let h = HybridLight {
+            light: l,
+            mask: self.mask,
+            layout: &self.layout,
+            gpu: f.gpu,
+            scene: f.scene,
+            shadow_set,
+            color: &self.color,
+            depth: &self.depth,
+            volumes,
+            vertices: f.volumes,
+            zfail: self.shadow_volume.zfail(),
+            mask_query: QueryId(0),
+        };
+        let map = self.shadow_map.image(l)?;
+        let readback = f.bindings[l].class_readback.as_ref();
+        Ok(hybrid_frame::declare_light(stage, &self.hybrid, h, map, self.overdraw.is_some(), readback))
     }
 
     /// The images a light's lighting passes sample: its shadow map and silhouette map.
@@ -242,7 +257,7 @@ impl Renderer {
         stage: &mut Stage<'a>,
         f: FrameInputs<'a>,
         light: &'a LightFrame,
-        shadow_set: &'a umbra_vk::DescriptorSet,
+        shadow_set: &'a DescriptorSet,
         reads: &[Use<'a>],
     ) {
         let (l, plan) = (light.light(), &light.plan);

@@ -9,6 +9,7 @@ use crate::plan::LightPlan;
 use crate::shadow_map::frustum::LightViews;
 use crate::shadow_volume::build::LightVolumes;
 use crate::silhouette_map::edges::LightEdges;
+use crate::technique::{needs, Lighting};
 use glam::Mat4;
 use umbra_scene::{Aabb, Camera};
 use umbra_vk::DescriptorSet;
@@ -61,7 +62,7 @@ impl LightFrame {
 
     /// Whether the hybrid's own passes run for it (a hybrid light with a map and volumes).
     pub fn hybrid(&self) -> bool {
-        self.plan.technique == umbra_scene::Technique::Hybrid && self.map.is_some() && self.volumes.is_some()
+        needs(self.plan.technique).lighting == Lighting::Hybrid && self.map.is_some() && self.volumes.is_some()
     }
 }
 

@@ -13,13 +13,14 @@ use crate::plan::{plan_frame, tally, CullReason, PlanInput, ShadowMapReport, Sil
 use crate::shadow_map::frustum::{self, LightViews, MapKind};
 use crate::shadow_map::DepthBias;
 use crate::shadow_volume::build::{self as volumes};
-use crate::shadow_volume::{FarPlane, VolumeMode};
+use crate::shadow_volume::FarPlane;
 use crate::silhouette_map::edges;
 use crate::streams::Streams;
+use crate::technique::{needs, MapSize, Volumes};
 use crate::{RenderError, RenderResult};
 use glam::Mat4;
 use std::sync::Arc;
-use umbra_scene::{Adjacency, Scene, Technique};
+use umbra_scene::{Adjacency, Scene};
 
 impl Renderer {
     /// The camera and bounds of a frame of `scene`. Shadow volumes reach infinity: the frame
@@ -27,10 +28,7 @@ impl Renderer {
     /// (`auto` may pick the hybrid), not from the plan, so that culling never changes the depth.
     pub(super) fn frame_view(&self, scene: &Scene) -> FrameView {
         let aspect = self.desc.width as f32 / self.desc.height as f32;
-        let asks_volumes = scene
-            .lights
-            .iter()
-            .any(|l| matches!(l.technique, Technique::ShadowVolume | Technique::Hybrid | Technique::Auto));
+        let asks_volumes = scene.lights.iter().any(|l| needs(l.technique).infinite_camera);
         let camera = match asks_volumes {
             true => volumes::volume_camera(&scene.camera, self.desc.shadow_volume.far_plane == FarPlane::Infinite),
             false => scene.camera,
@@ -140,12 +138,7 @@ impl Renderer {
     ) -> RenderResult<Vec<Option<MapFrame>>> {
         let settings = *self.shadow_map.settings();
         let hybrid_resolution = HybridSettings::default_resolution(self.desc.width, self.desc.height);
-        let uses_map = |l: &LightFrame| {
-            let t = l.plan.technique;
-            l.plan.recorded
-                && l.plan.shadowed
-                && matches!(t, Technique::ShadowMap | Technique::SilhouetteMap | Technique::Hybrid)
-        };
+        let uses_map = |l: &LightFrame| l.plan.recorded && l.plan.shadowed && needs(l.plan.technique).map.is_some();
         let mut fitted: Vec<Option<MapFrame>> = (0..lights.len()).map(|_| None).collect();
         let mut storage = Vec::new();
         for light in lights.iter_mut().filter(|l| uses_map(l)) {
@@ -162,7 +155,7 @@ impl Renderer {
                 let out = views.cull_per_view(&view.boxes);
                 tally(&mut plan.culled, CullReason::OutsideMapView, out);
             }
-            let silhouette = plan.technique == Technique::SilhouetteMap;
+            let silhouette = needs(plan.technique).silhouette;
             if silhouette && views.kind == MapKind::Cube {
                 return Err(RenderError::UnsupportedLight {
                     light: plan.light,
@@ -170,9 +163,9 @@ impl Renderer {
                     why: SILHOUETTE_CUBE_UNSUPPORTED.into(),
                 });
             }
-            let resolution = source.shadow_map_size.unwrap_or(match plan.technique {
-                Technique::Hybrid => self.desc.hybrid.resolution.unwrap_or(hybrid_resolution),
-                _ => settings.resolution,
+            let resolution = source.shadow_map_size.unwrap_or(match needs(plan.technique).map {
+                Some(MapSize::Hybrid) => self.desc.hybrid.resolution.unwrap_or(hybrid_resolution),
+                Some(MapSize::Settings) | None => settings.resolution,
             });
             let mut bytes = self.shadow_map.check(&self.ctx, plan.light, resolution, views.kind)?;
             if silhouette {
@@ -202,16 +195,12 @@ impl Renderer {
         for light in lights.iter_mut() {
             let plan = &light.plan;
             let shadowed = plan.recorded && plan.shadowed;
-            let wants = match plan.technique {
-                Technique::ShadowVolume => shadowed,
-                Technique::Hybrid => shadowed && light.map.is_some(),
-                _ => false,
+            let wanted = match needs(plan.technique).volumes {
+                Some(Volumes::Settings) if shadowed => Volumes::Settings,
+                Some(Volumes::ZFailWithMap) if shadowed && light.map.is_some() => Volumes::ZFailWithMap,
+                _ => continue,
             };
-            if !wants {
-                continue;
-            }
-            let mode =
-                if plan.technique == Technique::Hybrid { VolumeMode::ZFail } else { self.desc.shadow_volume.mode };
+            let mode = wanted.mode(self.desc.shadow_volume.mode);
             let source = &scene.lights[plan.light];
             let (boxes, camera) = (&view.boxes, &view.camera);
             let v = volumes::build_light(
