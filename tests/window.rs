@@ -92,8 +92,8 @@ fn keys_and_mouse_drive_the_viewer() {
     let field = |t: &str, name: &str| t.split(" · ").find(|f| f.starts_with(name)).unwrap_or_default().to_owned();
     xdotool(&["windowfocus", "--sync", &id]);
     wait_title(&|t| t.contains("GPU"), "the first frame's title");
-    xdotool(&["key", "2"]);
-    wait_title(&|t| t.contains(" · shadow_volume · "), "key 2 selects shadow volumes");
+    xdotool(&["key", "3"]);
+    wait_title(&|t| t.contains(" · shadow_volume · "), "key 3 selects shadow volumes");
     xdotool(&["key", "4"]);
     wait_title(&|t| t.contains(" · hybrid · "), "key 4 selects the hybrid");
     xdotool(&["key", "v"]);

@@ -28,9 +28,8 @@ use winit::window::{Window, WindowId};
 
 /// Shadow-map sizes `M` cycles through (`None`: the example's own).
 const MAP_SIZES: [Option<u32>; 5] = [Some(512), Some(1024), Some(2048), Some(4096), None];
-/// Techniques of keys 1–4.
-const TECHNIQUES: [Technique; 4] =
-    [Technique::ShadowMap, Technique::ShadowVolume, Technique::SilhouetteMap, Technique::Hybrid];
+/// Techniques of keys 1–4: umbra's one table, in its order.
+const TECHNIQUES: [Technique; 4] = Technique::SHADOWING;
 /// How often the title is refreshed.
 const TITLE_EVERY: Duration = Duration::from_millis(500);
 

@@ -1,8 +1,8 @@
-//! The `umbra-bench` command line: `sweep`, `poster`, `hard-cases` and `fingerprint`.
+//! The `umbra-bench` command line: `sweep`, `poster`, `hard-cases`, `fingerprint` and `frame-cost`.
 
 use crate::record::{Record, Results, CSV_HEADER};
 use crate::sweep::{self, Plan};
-use crate::{fingerprint, hard_cases, plots, poster, scenes, summary, BenchError, BenchResult};
+use crate::{fingerprint, frame_cost, hard_cases, plots, poster, scenes, summary, BenchError, BenchResult};
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
@@ -28,6 +28,9 @@ enum Command {
     /// Print a hash of every frame's pixels, views and report (times left out) per scene,
     /// technique and renderer variant: `diff` two runs to prove a refactor kept behaviour.
     Fingerprint(fingerprint::FingerprintArgs),
+    /// Render many frames with one renderer and print the host cost per frame (prepare,
+    /// record, submit-wait), early and late, with allocations and submissions per frame.
+    FrameCost(frame_cost::FrameCostArgs),
 }
 
 #[derive(clap::Args, Debug)]
@@ -87,6 +90,7 @@ pub fn main() {
         Command::Poster(args) => poster::run_cli(&args),
         Command::HardCases(args) => hard_cases::run(&args),
         Command::Fingerprint(args) => fingerprint::run(&args),
+        Command::FrameCost(args) => frame_cost::run(&args),
     };
     if let Err(e) = result {
         eprintln!("umbra-bench: {e}");

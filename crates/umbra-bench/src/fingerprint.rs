@@ -1,6 +1,6 @@
-//! `umbra-bench fingerprint`: one line per configuration with a hash of everything a frame
-//! returns except its times — the pixels, the overdraw and diagnostic views, the G-buffer and
-//! the report with every `*_ms` field left out. Run it before and after a refactor that must
+//! `umbra-bench fingerprint`: one line per configuration with two hashes of everything a frame
+//! returns except its times — one of the pixels, the overdraw and diagnostic views and the
+//! G-buffer, one of the report with every `*_ms` field left out. Run it before and after a refactor that must
 //! not change behaviour and `diff` the two outputs: equal lines are the same images, bit for
 //! bit, and the same report fields.
 
@@ -19,20 +19,25 @@ pub struct FingerprintArgs {
     /// Image size, WIDTHxHEIGHT.
     #[arg(long, default_value = "128x96", value_parser = crate::parse_size)]
     size: (u32, u32),
+    /// Report fields to leave out as well, wherever they are (fields added since the run to
+    /// compare with: the report only ever gains fields).
+    #[arg(long, value_delimiter = ',')]
+    ignore: Vec<String>,
 }
 
 /// The variants of the renderer every scene and technique is fingerprinted under.
 const VARIANTS: &[&str] = &["default", "views", "no-cull", "stencil-mask", "no-mask", "zpass", "culled", "spots"];
 
 /// Renders every scene × technique × variant (two frames each: the second, warm, is hashed) and
-/// prints `scene technique variant hash` lines, or the error a configuration gets.
+/// prints `scene technique variant images HASH report HASH` lines, or the error a
+/// configuration gets.
 pub fn run(args: &FingerprintArgs) -> BenchResult<()> {
     let ctx = umbra_vk::Context::new()?;
     for name in &args.scenes {
         for technique in Technique::ALL {
             for &variant in VARIANTS {
-                let line = match fingerprint(&ctx, name, technique, variant, args.size) {
-                    Ok(hash) => format!("{hash:016x}"),
+                let line = match fingerprint(&ctx, name, technique, variant, args) {
+                    Ok((images, report)) => format!("images {images:016x} report {report:016x}"),
                     Err(e) => format!("error: {e}"),
                 };
                 println!("{name} {} {variant} {line}", technique.name());
@@ -47,8 +52,9 @@ fn fingerprint(
     name: &str,
     technique: Technique,
     variant: &str,
-    (width, height): (u32, u32),
-) -> BenchResult<u64> {
+    args: &FingerprintArgs,
+) -> BenchResult<(u64, u64)> {
+    let (width, height) = args.size;
     let mut scene = scenes::load(name, variant == "spots", (variant == "culled").then_some(6.0))?;
     for light in &mut scene.lights {
         light.technique = technique;
@@ -76,11 +82,12 @@ fn fingerprint(
     let mut renderer = Renderer::new(ctx, desc)?;
     renderer.render(&scene)?;
     let frame = renderer.render(&scene)?;
-    Ok(hash_frame(&frame))
+    Ok(hash_frame(&frame, &args.ignore))
 }
 
-/// FNV-1a over every field of `frame` but its times.
-fn hash_frame(frame: &Frame) -> u64 {
+/// FNV-1a over the images of `frame` (pixels, overdraw, diagnostic views, G-buffer), and over
+/// its report but for its times and the fields `ignore`d.
+fn hash_frame(frame: &Frame, ignore: &[String]) -> (u64, u64) {
     let mut h = Fnv::default();
     h.bytes(&frame.rgba);
     if let Some(o) = &frame.overdraw {
@@ -102,19 +109,20 @@ fn hash_frame(frame: &Frame) -> u64 {
         g.position.iter().chain(&g.normal).flatten().for_each(|f| h.bytes(&f.to_le_bytes()));
     }
     let mut report = serde_json::to_value(&frame.report).unwrap_or(Value::Null);
-    strip_times(&mut report);
-    h.bytes(report.to_string().as_bytes());
-    h.0
+    strip(&mut report, ignore);
+    let mut r = Fnv::default();
+    r.bytes(report.to_string().as_bytes());
+    (h.0, r.0)
 }
 
-/// Removes every `*_ms` field (GPU and CPU times), recursively.
-fn strip_times(value: &mut Value) {
+/// Removes every `*_ms` field (GPU and CPU times) and every field named in `ignore`, recursively.
+fn strip(value: &mut Value, ignore: &[String]) {
     match value {
         Value::Object(map) => {
-            map.retain(|k, _| !k.ends_with("_ms"));
-            map.values_mut().for_each(strip_times);
+            map.retain(|k, _| !k.ends_with("_ms") && !ignore.contains(k));
+            map.values_mut().for_each(|v| strip(v, ignore));
         }
-        Value::Array(items) => items.iter_mut().for_each(strip_times),
+        Value::Array(items) => items.iter_mut().for_each(|v| strip(v, ignore)),
         _ => {}
     }
 }

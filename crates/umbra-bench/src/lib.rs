@@ -35,6 +35,7 @@
 pub mod cli;
 mod error;
 pub mod fingerprint;
+pub mod frame_cost;
 pub mod hard_cases;
 pub mod plots;
 pub mod poster;

@@ -231,6 +231,11 @@ impl DiagnosticReadback {
         })
     }
 
+    /// Whether it is the readback of a silhouette map as large as `silhouette_map`.
+    pub fn fits(&self, silhouette_map: &Image) -> bool {
+        self.resolution == silhouette_map.desc.width
+    }
+
     pub fn read(&self, light: usize) -> RenderResult<LightDiagnostics> {
         let raw = self.silhouette_map.read()?;
         let points = raw

@@ -202,8 +202,18 @@ pub struct FrameReport {
     pub total_gpu_ms: Option<f64>,
     /// Sum of the diagnostic passes' GPU times (0 when there were none).
     pub diagnostic_gpu_ms: Option<f64>,
-    /// CPU wall time of recording, submission and wait, in milliseconds.
+    /// CPU wall time of the whole `render` call, in milliseconds: the sum of the three below
+    /// plus reading back and reporting.
     pub cpu_frame_ms: f64,
+    /// Of which checking, planning, preparing every light's technique on the CPU, uploading
+    /// and binding.
+    pub cpu_prepare_ms: f64,
+    /// Of which declaring and recording the passes.
+    pub cpu_record_ms: f64,
+    /// Of which submitting and waiting for the GPU (every submission of the frame).
+    pub cpu_submit_wait_ms: f64,
+    /// Queue submissions this frame made: 1, or 2 when blocker culling read its queries back.
+    pub submissions: u64,
     /// Bytes of mesh data (vertices and indices) uploaded for this frame: 0 when every mesh
     /// kept its revision since the frame before ([`umbra_scene::Mesh::touch`]).
     pub geometry_uploaded_bytes: u64,
@@ -218,8 +228,8 @@ impl FrameReport {
         serde_json::to_string_pretty(self).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
     }
 
-    /// The pass named `name`, if recorded.
-    pub fn pass(&self, name: &str) -> Option<&PassReport> {
-        self.passes.iter().find(|p| p.name == name)
+    /// Pass `id`, if recorded.
+    pub fn pass(&self, id: crate::PassId) -> Option<&PassReport> {
+        self.passes.iter().find(|p| p.id == id)
     }
 }

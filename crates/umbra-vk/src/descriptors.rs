@@ -1,4 +1,5 @@
-//! Descriptor set layouts and sets (each set owns a small pool sized for its layout).
+//! Descriptor set layouts and sets: a set with its own small pool, or a [`DescriptorArena`]'s,
+//! reset every frame.
 
 use crate::error::{CallContext, VkResult};
 use crate::{human_bytes, Buffer, Context, Limit};
@@ -68,11 +69,13 @@ pub enum Resource<'a> {
     },
 }
 
-/// A descriptor set with its own pool; freed on drop.
+/// A descriptor set: with its own pool (freed on drop), or one of a [`DescriptorArena`]'s
+/// (freed when the arena is reset; only ever borrowed from the arena).
 pub struct DescriptorSet {
     /// The raw set.
     pub raw: vk::DescriptorSet,
-    pool: vk::DescriptorPool,
+    /// The set's own pool; `None` for an arena's set.
+    pool: Option<vk::DescriptorPool>,
     ctx: Context,
 }
 
@@ -82,75 +85,172 @@ impl DescriptorSet {
     /// Buffers are bound whole: one larger than `maxStorageBufferRange` (storage) or
     /// `maxUniformBufferRange` (uniform) is a typed [`crate::VkError::DeviceLimit`].
     pub fn new(ctx: &Context, name: &str, layout: &DescriptorSetLayout, resources: &[Resource<'_>]) -> VkResult<Self> {
-        for (b, r) in layout.bindings.iter().zip(resources) {
-            if let (Resource::Buffer(buffer), Some(limit)) = (r, range_limit(ctx, b.ty)) {
-                if buffer.desc.size > limit.value {
-                    return Err(ctx.over_limit(
-                        format!(
-                            "descriptor set {name:?}, binding {}: {} of {:?}",
-                            b.binding,
-                            human_bytes(buffer.desc.size),
-                            b.ty
-                        ),
-                        limit,
-                    ));
-                }
-            }
-        }
-        let device = &ctx.inner.device;
-        let sizes: Vec<_> =
-            layout.bindings.iter().map(|b| vk::DescriptorPoolSize { ty: b.ty, descriptor_count: 1 }).collect();
-        let info = vk::DescriptorPoolCreateInfo::default().max_sets(1).pool_sizes(&sizes);
-        // SAFETY: valid create info; destroyed in `Drop`.
-        let pool = unsafe { device.create_descriptor_pool(&info, None) }.call("vkCreateDescriptorPool")?;
-        let layouts = [layout.raw];
-        let alloc = vk::DescriptorSetAllocateInfo::default().descriptor_pool(pool).set_layouts(&layouts);
-        // SAFETY: the pool was sized for exactly this layout.
-        let raw = match unsafe { device.allocate_descriptor_sets(&alloc) }.call("vkAllocateDescriptorSets") {
-            Ok(sets) => sets[0],
+        check_ranges(ctx, name, layout, resources)?;
+        let pool = create_pool(ctx, layout, 1)?;
+        ctx.set_name(pool, &format!("{name} pool"));
+        let raw = match allocate(ctx, pool, layout) {
+            Ok(raw) => raw,
             Err(e) => {
                 // SAFETY: unused pool.
-                unsafe { device.destroy_descriptor_pool(pool, None) };
+                unsafe { ctx.inner.device.destroy_descriptor_pool(pool, None) };
                 return Err(e);
             }
         };
-        let set = Self { raw, pool, ctx: ctx.clone() };
-        let buffer_infos: Vec<_> = resources
-            .iter()
-            .map(|r| match r {
-                Resource::Buffer(b) => [vk::DescriptorBufferInfo { buffer: b.raw, offset: 0, range: vk::WHOLE_SIZE }],
-                _ => [vk::DescriptorBufferInfo::default()],
-            })
-            .collect();
-        let image_infos: Vec<_> = resources
-            .iter()
-            .map(|r| match *r {
-                Resource::SampledImage { view, sampler, layout } => {
-                    [vk::DescriptorImageInfo { sampler, image_view: view, image_layout: layout }]
-                }
-                _ => [vk::DescriptorImageInfo::default()],
-            })
-            .collect();
-        let writes: Vec<_> = layout
-            .bindings
-            .iter()
-            .zip(resources)
-            .enumerate()
-            .map(|(i, (b, r))| {
-                let w = vk::WriteDescriptorSet::default().dst_set(raw).dst_binding(b.binding).descriptor_type(b.ty);
-                match r {
-                    Resource::Buffer(_) => w.buffer_info(&buffer_infos[i]),
-                    Resource::SampledImage { .. } => w.image_info(&image_infos[i]),
-                }
-            })
-            .collect();
-        // SAFETY: writes match the layout's binding types; resources are alive now and the
-        // caller keeps them alive while the set is used (they are borrowed by recorders).
-        unsafe { device.update_descriptor_sets(&writes, &[]) };
+        let set = Self { raw, pool: Some(pool), ctx: ctx.clone() };
+        write(ctx, raw, layout, resources);
         ctx.set_name(raw, name);
-        ctx.set_name(pool, &format!("{name} pool"));
         Ok(set)
     }
+}
+
+/// Sets of one layout made every frame from one pool that is reset instead of freed: a frame
+/// allocates its sets with [`DescriptorArena::allocate`] after [`DescriptorArena::reset`] and
+/// reads them with [`DescriptorArena::get`]. No pool is created while the frame needs no more
+/// sets than an earlier one did. The borrow checker keeps every set from outliving a reset: sets
+/// are only lent out by `get`, and `reset` takes the arena mutably.
+pub struct DescriptorArena {
+    name: String,
+    pool: vk::DescriptorPool,
+    capacity: u32,
+    sets: Vec<DescriptorSet>,
+    ctx: Context,
+}
+
+impl DescriptorArena {
+    /// An arena named `name` with room for `capacity` sets of `layout` (at least 1).
+    pub fn new(ctx: &Context, name: &str, layout: &DescriptorSetLayout, capacity: u32) -> VkResult<Self> {
+        let capacity = capacity.max(1);
+        let pool = create_pool(ctx, layout, capacity)?;
+        ctx.set_name(pool, &format!("{name} pool"));
+        Ok(Self { name: name.to_owned(), pool, capacity, sets: Vec::new(), ctx: ctx.clone() })
+    }
+
+    /// Frees every set and makes room for `count` sets of `layout` (a larger pool only when the
+    /// current one holds fewer). The GPU must be done with the sets: umbra waits for every
+    /// submission.
+    pub fn reset(&mut self, layout: &DescriptorSetLayout, count: u32) -> VkResult<()> {
+        self.sets.clear();
+        let device = &self.ctx.inner.device;
+        if count > self.capacity {
+            let pool = create_pool(&self.ctx, layout, count)?;
+            // SAFETY: no set of the old pool is left (cleared above) and none is in use.
+            unsafe { device.destroy_descriptor_pool(self.pool, None) };
+            self.ctx.set_name(pool, &format!("{} pool", self.name));
+            (self.pool, self.capacity) = (pool, count);
+            return Ok(());
+        }
+        // SAFETY: every set of the pool was dropped above and none is in use by the GPU.
+        unsafe { device.reset_descriptor_pool(self.pool, vk::DescriptorPoolResetFlags::empty()) }
+            .call("vkResetDescriptorPool")
+    }
+
+    /// Allocates a set of `layout` (the arena's) named `name` and writes `resources[i]` to its
+    /// `i`-th binding, as [`DescriptorSet::new`]; returns its index for [`Self::get`].
+    pub fn allocate(
+        &mut self,
+        name: &str,
+        layout: &DescriptorSetLayout,
+        resources: &[Resource<'_>],
+    ) -> VkResult<usize> {
+        check_ranges(&self.ctx, name, layout, resources)?;
+        if self.sets.len() as u32 >= self.capacity {
+            return Err(crate::VkError::InvalidDesc {
+                what: "descriptor arena",
+                why: format!("{:?} holds {} sets this frame: reset it for more", self.name, self.capacity),
+            });
+        }
+        let raw = allocate(&self.ctx, self.pool, layout)?;
+        write(&self.ctx, raw, layout, resources);
+        self.ctx.set_name(raw, name);
+        self.sets.push(DescriptorSet { raw, pool: None, ctx: self.ctx.clone() });
+        Ok(self.sets.len() - 1)
+    }
+
+    /// Set `index` of this frame's.
+    pub fn get(&self, index: usize) -> Option<&DescriptorSet> {
+        self.sets.get(index)
+    }
+}
+
+impl Drop for DescriptorArena {
+    fn drop(&mut self) {
+        self.sets.clear();
+        // SAFETY: umbra waits for every submission; destroying the pool frees its sets.
+        unsafe { self.ctx.inner.device.destroy_descriptor_pool(self.pool, None) };
+    }
+}
+
+/// Refuses a buffer larger than its descriptor type can bind.
+fn check_ranges(ctx: &Context, name: &str, layout: &DescriptorSetLayout, resources: &[Resource<'_>]) -> VkResult<()> {
+    for (b, r) in layout.bindings.iter().zip(resources) {
+        if let (Resource::Buffer(buffer), Some(limit)) = (r, range_limit(ctx, b.ty)) {
+            if buffer.desc.size > limit.value {
+                return Err(ctx.over_limit(
+                    format!(
+                        "descriptor set {name:?}, binding {}: {} of {:?}",
+                        b.binding,
+                        human_bytes(buffer.desc.size),
+                        b.ty
+                    ),
+                    limit,
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A pool with room for `sets` sets of `layout`.
+fn create_pool(ctx: &Context, layout: &DescriptorSetLayout, sets: u32) -> VkResult<vk::DescriptorPool> {
+    let sizes: Vec<_> =
+        layout.bindings.iter().map(|b| vk::DescriptorPoolSize { ty: b.ty, descriptor_count: sets }).collect();
+    let info = vk::DescriptorPoolCreateInfo::default().max_sets(sets).pool_sizes(&sizes);
+    // SAFETY: valid create info; the caller destroys the pool.
+    unsafe { ctx.inner.device.create_descriptor_pool(&info, None) }.call("vkCreateDescriptorPool")
+}
+
+/// One set of `layout` from `pool`.
+fn allocate(ctx: &Context, pool: vk::DescriptorPool, layout: &DescriptorSetLayout) -> VkResult<vk::DescriptorSet> {
+    let layouts = [layout.raw];
+    let alloc = vk::DescriptorSetAllocateInfo::default().descriptor_pool(pool).set_layouts(&layouts);
+    // SAFETY: the caller sized the pool for sets of this layout.
+    Ok(unsafe { ctx.inner.device.allocate_descriptor_sets(&alloc) }.call("vkAllocateDescriptorSets")?[0])
+}
+
+/// Writes `resources[i]` to binding `i` of `raw` (a set of `layout`).
+fn write(ctx: &Context, raw: vk::DescriptorSet, layout: &DescriptorSetLayout, resources: &[Resource<'_>]) {
+    let buffer_infos: Vec<_> = resources
+        .iter()
+        .map(|r| match r {
+            Resource::Buffer(b) => [vk::DescriptorBufferInfo { buffer: b.raw, offset: 0, range: vk::WHOLE_SIZE }],
+            _ => [vk::DescriptorBufferInfo::default()],
+        })
+        .collect();
+    let image_infos: Vec<_> = resources
+        .iter()
+        .map(|r| match *r {
+            Resource::SampledImage { view, sampler, layout } => {
+                [vk::DescriptorImageInfo { sampler, image_view: view, image_layout: layout }]
+            }
+            _ => [vk::DescriptorImageInfo::default()],
+        })
+        .collect();
+    let writes: Vec<_> = layout
+        .bindings
+        .iter()
+        .zip(resources)
+        .enumerate()
+        .map(|(i, (b, r))| {
+            let w = vk::WriteDescriptorSet::default().dst_set(raw).dst_binding(b.binding).descriptor_type(b.ty);
+            match r {
+                Resource::Buffer(_) => w.buffer_info(&buffer_infos[i]),
+                Resource::SampledImage { .. } => w.image_info(&image_infos[i]),
+            }
+        })
+        .collect();
+    // SAFETY: writes match the layout's binding types; resources are alive now and the caller
+    // keeps them alive while the set is used (they are borrowed by recorders).
+    unsafe { ctx.inner.device.update_descriptor_sets(&writes, &[]) };
 }
 
 /// The most a descriptor of type `ty` can bind, for buffer descriptors.
@@ -169,7 +269,9 @@ fn range_limit(ctx: &Context, ty: vk::DescriptorType) -> Option<Limit> {
 
 impl Drop for DescriptorSet {
     fn drop(&mut self) {
-        // SAFETY: umbra waits for every submission; destroying the pool frees the set.
-        unsafe { self.ctx.inner.device.destroy_descriptor_pool(self.pool, None) };
+        if let Some(pool) = self.pool {
+            // SAFETY: umbra waits for every submission; destroying the pool frees the set.
+            unsafe { self.ctx.inner.device.destroy_descriptor_pool(pool, None) };
+        }
     }
 }

@@ -50,7 +50,7 @@ pub use bytemuck;
 pub use capabilities::{device_type_name, Capabilities, DEPTH_STENCIL_PREFERENCE};
 pub use commands::{ColorAttachment, DepthAttachment, Recorder, RenderTargets};
 pub use context::{Context, ContextOptions, ExternalDevice, VALIDATION_ENV};
-pub use descriptors::{Binding, DescriptorSet, DescriptorSetLayout, Resource};
+pub use descriptors::{Binding, DescriptorArena, DescriptorSet, DescriptorSetLayout, Resource};
 pub use error::{VkError, VkResult};
 pub use image::{format_aspect, texel_size, Image, ImageDesc, ImageState, ImageView};
 pub use limits::{element_bytes, human_bytes, ImageLimits, Limit};

@@ -98,6 +98,8 @@ pub(crate) struct StageResults {
     pub passes: Vec<PassReport>,
     /// The samples of every query reserved, by [`QueryId`].
     pub samples: Vec<u64>,
+    /// Host time spent submitting its commands and waiting for them (ms).
+    pub submit_wait_ms: f64,
 }
 
 impl StageResults {
@@ -178,7 +180,9 @@ impl FrameGraph {
             passes.push(log.report(pass.id));
         }
         rec.transfer_to_host(&readbacks);
+        let waiting = std::time::Instant::now();
         ctx.submit_and_wait(rec)?;
+        let submit_wait_ms = waiting.elapsed().as_secs_f64() * 1e3;
         if let (Some(t), false) = (timer, passes.is_empty()) {
             let stamps = t.first_results(timestamps)?;
             for (i, p) in passes.iter_mut().enumerate() {
@@ -189,7 +193,7 @@ impl FrameGraph {
             (Some(q), n) if n > 0 => q.first_results(n)?,
             _ => Vec::new(),
         };
-        Ok(StageResults { passes, samples })
+        Ok(StageResults { passes, samples, submit_wait_ms })
     }
 }
 

@@ -4,7 +4,7 @@
 //! `readback`. Each pass names the images it uses; the graph emits the barriers, labels and
 //! timestamps (`crate::frame`).
 
-use super::lights::{LightBindings, LightFrame, LightQueries};
+use super::lights::{LightBindings, LightFrame, LightQueries, LightSets};
 use super::Renderer;
 use crate::forward::PassBounds;
 use crate::frame::{FrameGraph, PassId, QueryId, Stage, StageResults, Use};
@@ -29,7 +29,7 @@ pub(super) struct FrameInputs<'a> {
     pub scene: &'a Scene,
     pub gpu: &'a GpuScene,
     pub lights: &'a [LightFrame],
-    pub bindings: &'a [LightBindings],
+    pub bindings: &'a [LightBindings<'a>],
     /// The frame's silhouette edges and shadow-volume vertices (none when empty).
     pub edges: Option<&'a Buffer>,
     pub volumes: Option<&'a Buffer>,
@@ -55,11 +55,12 @@ impl Renderer {
         scene: &Scene,
         gpu: &GpuScene,
         lights: &mut [LightFrame],
-        bindings: &[LightBindings],
+        sets: &[LightSets],
         streams: &Streams,
         mut culling: CullingPlan,
     ) -> RenderResult<FrameRun> {
         graph.begin_frame();
+        let bindings = &self.bindings(sets);
         let (edges, volumes) = (streams.edges.filled(), streams.volumes.filled());
         let mut stages = Vec::new();
         let boxes = streams.blockers.filled().filter(|_| !culling.boxes.is_empty());
@@ -234,7 +235,7 @@ impl Renderer {
             mask_query: QueryId(0),
         };
         let map = self.shadow_map.image(l)?;
-        let readback = f.bindings[l].class_readback.as_ref();
+        let readback = f.bindings[l].class_readback;
         Ok(hybrid_frame::declare_light(stage, &self.hybrid, h, map, self.overdraw.is_some(), readback))
     }
 

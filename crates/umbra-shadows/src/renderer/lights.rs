@@ -66,17 +66,33 @@ impl LightFrame {
     }
 }
 
-/// One light's descriptor sets and readbacks this frame.
+/// One light's descriptor sets this frame, as indices into the renderer's arena.
+#[derive(Clone, Copy, Default)]
+pub(super) struct LightSets {
+    pub shadow_set: Option<usize>,
+    pub depth_set: Option<usize>,
+}
+
+/// The readbacks of one light's diagnostic views, kept from frame to frame while they fit.
 #[derive(Default)]
-pub(super) struct LightBindings {
-    /// Set 1 of its lighting passes (recorded lights).
-    pub shadow_set: Option<DescriptorSet>,
-    /// Set 1 of its silhouette-point pass: the depth map raw, a placeholder for the map it writes.
-    pub depth_set: Option<DescriptorSet>,
+pub(super) struct LightReadbacks {
     /// Its silhouette-map diagnostics (silhouette-map lights, with diagnostics).
-    pub silhouette_readback: Option<DiagnosticReadback>,
+    pub silhouette: Option<DiagnosticReadback>,
     /// Its classes (and stencil) diagnostics (shadow-map, shadow-volume and hybrid lights).
-    pub class_readback: Option<ClassReadback>,
+    pub classes: Option<ClassReadback>,
+}
+
+/// One light's descriptor sets and readbacks this frame.
+#[derive(Clone, Copy, Default)]
+pub(super) struct LightBindings<'a> {
+    /// Set 1 of its lighting passes (recorded lights).
+    pub shadow_set: Option<&'a DescriptorSet>,
+    /// Set 1 of its silhouette-point pass: the depth map raw, a placeholder for the map it writes.
+    pub depth_set: Option<&'a DescriptorSet>,
+    /// Its silhouette-map diagnostics.
+    pub silhouette_readback: Option<&'a DiagnosticReadback>,
+    /// Its classes (and stencil) diagnostics.
+    pub class_readback: Option<&'a ClassReadback>,
 }
 
 /// The occlusion queries of one light, reserved when its passes were declared.

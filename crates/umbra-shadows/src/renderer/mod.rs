@@ -33,7 +33,7 @@ use crate::RenderResult;
 use desc::{check_frame_size, depth_desc, frame_target};
 use std::time::Instant;
 use umbra_scene::Scene;
-use umbra_vk::{vk, Buffer, BufferDesc, Context, DescriptorSetLayout, Image, PipelineLayout};
+use umbra_vk::{vk, Buffer, BufferDesc, Context, DescriptorArena, DescriptorSetLayout, Image, PipelineLayout};
 
 /// Renders scenes into a headless target of a fixed size.
 pub struct Renderer {
@@ -63,6 +63,10 @@ pub struct Renderer {
     streams: Streams,
     /// The frame graph: its query pools, kept between frames.
     graph: FrameGraph,
+    /// The lights' shadow sets, made afresh each frame from one pool that is reset.
+    sets: DescriptorArena,
+    /// Per light, its diagnostic readbacks (with `diagnostics`), kept while they fit.
+    readbacks: Vec<lights::LightReadbacks>,
     /// Volume overdraw target and its readback (with `shadow_volume.overdraw`).
     overdraw: Option<(Image, Buffer)>,
     /// The G-buffer pass (with `gbuffer`).
@@ -128,6 +132,7 @@ impl Renderer {
             true => Some(GBufferPass::new(ctx, &layout, depth_format, desc.width, desc.height)?),
             false => None,
         };
+        let sets = DescriptorArena::new(ctx, "shadow sets", &shadow_set_layout, 8)?;
         Ok(Self {
             ctx: ctx.clone(),
             desc,
@@ -148,6 +153,8 @@ impl Renderer {
             gpu: None,
             streams: Streams::default(),
             graph: FrameGraph::default(),
+            sets,
+            readbacks: Vec::new(),
             overdraw,
             gbuffer,
         })
@@ -189,20 +196,28 @@ impl Renderer {
         let culling = self.plan_culling(scene, &view, &lights, &mut streams)?;
         // 4. Upload what changed; bind each light's maps; make the readbacks.
         let gpu = self.upload(scene, &view, &lights, &shadow_views)?;
-        let bindings = self.bind(&lights)?;
+        let sets = self.bind(&lights)?;
         // 5. Declare the passes and run them: one submission, two with blocker culling. The
         //    readback is poisoned first so that a copy that never happened cannot pass for a frame.
         self.readback.write(0, &vec![0xCD; self.readback.desc.size as usize])?;
+        let prepared = started.elapsed();
         let mut graph = std::mem::take(&mut self.graph);
-        let frame = self.run_frame(&mut graph, scene, &gpu, &mut lights, &bindings, &streams, culling);
+        let running = Instant::now();
+        let frame = self.run_frame(&mut graph, scene, &gpu, &mut lights, &sets, &streams, culling);
+        let ran_ms = running.elapsed().as_secs_f64() * 1e3;
         self.graph = graph;
         let ran = frame?;
         let geometry_uploaded_bytes = gpu.geometry_uploaded;
+        // 6. Read back and report.
+        let (submit_wait_ms, submissions) = (ran.stages.iter().map(|s| s.submit_wait_ms).sum(), ran.stages.len());
+        let mut frame = self.finish(scene, &adjacency, lights, &sets, ran)?;
+        frame.report.cpu_prepare_ms = prepared.as_secs_f64() * 1e3;
+        frame.report.cpu_submit_wait_ms = submit_wait_ms;
+        frame.report.cpu_record_ms = (ran_ms - submit_wait_ms).max(0.0);
+        frame.report.submissions = submissions as u64;
         // Kept for the next frame: its meshes, per-frame buffers and vertex streams are reused.
         self.gpu = Some(gpu);
         self.streams = streams;
-        // 6. Read back and report.
-        let mut frame = self.finish(scene, &adjacency, lights, &bindings, ran)?;
         frame.report.cpu_frame_ms = started.elapsed().as_secs_f64() * 1e3;
         frame.report.geometry_uploaded_bytes = geometry_uploaded_bytes;
         frame.report.memory_allocations = self.ctx.memory_allocations() - allocations_before;

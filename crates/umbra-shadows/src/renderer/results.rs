@@ -2,7 +2,7 @@
 //! queries and readbacks, and the frame report.
 
 use super::declare::FrameRun;
-use super::lights::{LightBindings, LightFrame};
+use super::lights::{LightBindings, LightFrame, LightSets};
 use super::{Frame, Renderer};
 use crate::diagnostics::{LightDiagnostics, PixelClass};
 use crate::frame::PassId;
@@ -23,9 +23,10 @@ impl Renderer {
         scene: &Scene,
         adjacency: &[Arc<Adjacency>],
         lights: Vec<LightFrame>,
-        bindings: &[LightBindings],
+        sets: &[LightSets],
         run: FrameRun,
     ) -> RenderResult<Frame> {
+        let bindings = self.bindings(sets);
         let rgba = self.readback.read()?;
         let overdraw = match (&self.overdraw, run.overdraw) {
             (Some((_, readback)), true) => Some(readback.read()?),
@@ -96,7 +97,7 @@ impl Renderer {
     fn read_diagnostics(
         &self,
         light: &LightFrame,
-        bindings: &LightBindings,
+        bindings: &LightBindings<'_>,
         plan: &mut LightPlan,
     ) -> RenderResult<Option<LightDiagnostics>> {
         let l = light.light();
@@ -144,6 +145,10 @@ impl Renderer {
             diagnostic_gpu_ms: sum(true),
             passes,
             cpu_frame_ms: 0.0,
+            cpu_prepare_ms: 0.0,
+            cpu_record_ms: 0.0,
+            cpu_submit_wait_ms: 0.0,
+            submissions: 0,
             geometry_uploaded_bytes: 0,
             memory_allocations: 0,
         }

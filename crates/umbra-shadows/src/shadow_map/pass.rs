@@ -8,7 +8,7 @@ use crate::timing::PassLog;
 use crate::{RenderError, RenderResult};
 use umbra_scene::Scene;
 use umbra_vk::{
-    vk, Binding, Context, DepthAttachment, DepthState, DescriptorSet, DescriptorSetLayout, GraphicsPipeline,
+    vk, Binding, Context, DepthAttachment, DepthState, DescriptorArena, DescriptorSetLayout, GraphicsPipeline,
     GraphicsPipelineDesc, Image, ImageDesc, ImageState, ImageView, PipelineLayout, Recorder, RenderTargets, Resource,
     Sampler, SamplerDesc,
 };
@@ -236,14 +236,15 @@ impl ShadowMapPass {
     /// settings' filter or, with `hardware_pcf`, through a LINEAR comparison sampler; and
     /// `technique_image` at binding 3 (the light's silhouette map, the hybrid's silhouette-pixel
     /// classes, or a placeholder).
+    /// The set comes from `arena` (this frame's); its index there is returned.
     pub fn descriptor_set(
         &self,
-        ctx: &Context,
+        arena: &mut DescriptorArena,
         layout: &DescriptorSetLayout,
         light: Option<usize>,
         hardware_pcf: bool,
         technique_image: &Image,
-    ) -> RenderResult<DescriptorSet> {
+    ) -> RenderResult<usize> {
         let target = light.and_then(|l| self.targets.get(l)).and_then(Option::as_ref);
         let (single, cube) = match target {
             Some(t) if t.image.desc.cube => (&self.placeholder_2d, &t.image),
@@ -263,7 +264,7 @@ impl ShadowMapPass {
         let raw = &self.raw_sampler;
         let resources =
             [sampled(single, compare), sampled(cube, compare), sampled(single, raw), sampled(technique_image, raw)];
-        Ok(DescriptorSet::new(ctx, &name, layout, &resources)?)
+        Ok(arena.allocate(&name, layout, &resources)?)
     }
 
     /// Light `light`'s map (after [`Self::prepare`]).
