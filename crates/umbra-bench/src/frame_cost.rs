@@ -11,7 +11,7 @@ use umbra_shadows::{FrameReport, Renderer, RendererDesc};
 #[derive(clap::Args, Debug)]
 pub struct FrameCostArgs {
     /// Scenes: procedural names, scene files or glTF paths.
-    #[arg(long, value_delimiter = ',', default_value = "cubes,tree,assets/sixteen-bunnies.toml")]
+    #[arg(long, value_delimiter = ',', default_value = "cubes,tree,sixteen-bunnies.toml")]
     scenes: Vec<String>,
     /// Techniques (short names): sm, silmap, sv, hybrid.
     #[arg(long, value_delimiter = ',', default_value = "sm,silmap,sv,hybrid")]

@@ -12,14 +12,20 @@ pub fn assets_dir() -> PathBuf {
         .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets"))
 }
 
-/// Loads `name` (a bare file name that does not exist here is looked up in [`assets_dir`]);
+/// The bench's own scene files (`crates/umbra-bench/scenes/`: `sixteen-bunnies.toml`).
+pub fn scenes_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes")
+}
+
+/// Loads `name` (a bare file name that does not exist here is looked up in [`assets_dir`],
+/// then in [`scenes_dir`]);
 /// with `spot_lights` every point light becomes a spot around the scene (cone at most 80°),
 /// and with `light_range` every point and spot light is bounded to that range.
 pub fn load(name: &str, spot_lights: bool, light_range: Option<f32>) -> BenchResult<umbra_scene::Scene> {
     let mut spec = name.to_owned();
     if !Path::new(name).exists() && !umbra_scene::procedural::NAMES.contains(&name) {
-        let candidate = assets_dir().join(name);
-        if candidate.exists() {
+        let candidates = [assets_dir().join(name), scenes_dir().join(name)];
+        if let Some(candidate) = candidates.iter().find(|c| c.exists()) {
             spec = candidate.to_string_lossy().into_owned();
         }
     }
