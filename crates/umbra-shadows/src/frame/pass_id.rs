@@ -103,3 +103,56 @@ impl PassId {
         )
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every pass a frame can record for lights 0 and 1.
+    fn every_pass() -> Vec<PassId> {
+        let mut all = vec![PassId::BlockerCulling, PassId::Ambient, PassId::GBuffer, PassId::Readback];
+        for l in 0..2 {
+            all.extend([
+                PassId::ShadowMap(l),
+                PassId::SilhouetteMap(l),
+                PassId::ShadowVolume(l),
+                PassId::Light(l, LightKind::Spot),
+                PassId::HybridClassify(l),
+                PassId::ComputationMask(l),
+                PassId::HybridVolumes(l),
+                PassId::HybridSilhouettes(l),
+                PassId::MaskedVolumeFragments(l),
+                PassId::HybridDiagnostics(l),
+                PassId::LightDiagnostics(l),
+                PassId::VolumeOverdraw(l),
+                PassId::SilhouetteDiagnostics(l),
+            ]);
+        }
+        all
+    }
+
+    #[test]
+    fn every_pass_has_its_own_name_and_its_light() {
+        let all = every_pass();
+        let names: std::collections::HashSet<String> = all.iter().map(|p| p.name()).collect();
+        assert_eq!(names.len(), all.len(), "two passes share a name: {names:?}");
+        for p in &all {
+            // A per-light pass names its light; the frame's own passes name none.
+            match p.light() {
+                Some(l) => assert!(p.name().contains(&l.to_string()), "{p:?}: {}", p.name()),
+                None => assert!(!p.name().chars().any(|c| c.is_ascii_digit()), "{p:?}: {}", p.name()),
+            }
+        }
+        assert_eq!(PassId::Light(3, LightKind::Point).name(), "light 3 (point)");
+        assert_eq!(PassId::HybridSilhouettes(2).name(), "light 2 silhouettes");
+    }
+
+    #[test]
+    fn diagnostic_passes_are_the_views_only() {
+        let diagnostic: Vec<String> = every_pass().iter().filter(|p| p.diagnostic()).map(|p| p.name()).collect();
+        assert_eq!(diagnostic.len(), 1 + 5 * 2, "{diagnostic:?}");
+        for p in [PassId::Ambient, PassId::ShadowMap(0), PassId::HybridVolumes(0), PassId::Readback] {
+            assert!(!p.diagnostic(), "{p:?} is part of the technique's cost");
+        }
+    }
+}
