@@ -4,7 +4,6 @@
 //! can be seen not to grow with the frames rendered and a warm frame to allocate nothing.
 
 use crate::{scenes, BenchResult};
-use umbra_scene::Technique;
 use umbra_shadows::{FrameReport, Renderer, RendererDesc};
 
 /// Arguments of `umbra-bench frame-cost`.
@@ -47,7 +46,7 @@ pub fn run(args: &FrameCostArgs) -> BenchResult<()> {
     );
     for name in &args.scenes {
         for short in &args.techniques {
-            let Some(technique) = Technique::SHADOWING.into_iter().find(|t| t.short() == short) else {
+            let Some(technique) = crate::sweep::technique(short) else {
                 println!("{name} {short}: not a technique");
                 continue;
             };

@@ -79,8 +79,7 @@ impl GBufferPass {
         let (p, n) = (&self.position, &self.normal);
         let color =
             [ColorAttachment { image: p, clear: Some([0.0; 4]) }, ColorAttachment { image: n, clear: Some([0.0; 4]) }];
-        let depth = DepthAttachment { image: depth, view: None, clear: None, clear_stencil: None, read_only: false };
-        cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(depth) });
+        cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(DepthAttachment::keep(depth)) });
         cx.rec.bind_pipeline(&self.pipeline);
         forward::draw_objects(cx.rec, layout, gpu, scene, 0, cx.log);
         cx.rec.end_rendering();

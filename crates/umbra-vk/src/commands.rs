@@ -41,6 +41,18 @@ pub struct DepthAttachment<'a> {
     pub read_only: bool,
 }
 
+impl<'a> DepthAttachment<'a> {
+    /// `image`'s default view, its depth and stencil kept and written.
+    pub fn keep(image: &'a Image) -> Self {
+        Self { image, view: None, clear: None, clear_stencil: None, read_only: false }
+    }
+
+    /// `image`'s default view, its depth kept and its stencil cleared to `stencil`.
+    pub fn clearing_stencil(image: &'a Image, stencil: u32) -> Self {
+        Self { clear_stencil: Some(stencil), ..Self::keep(image) }
+    }
+}
+
 /// The attachments of one dynamic-rendering pass. The slice only needs to live for the
 /// `begin_rendering` call (`'s`); the images are borrowed for the recording (`'a`).
 #[derive(Clone, Copy, Debug, Default)]

@@ -277,9 +277,7 @@ impl HybridPass {
             ColorAttachment { image: h.color, clear: None },
             ColorAttachment { image: classes, clear: Some([0.0; 4]) },
         ];
-        let frame_depth =
-            DepthAttachment { image: h.depth, view: None, clear: None, clear_stencil: None, read_only: false };
-        cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(frame_depth) });
+        cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(DepthAttachment::keep(h.depth)) });
         cx.rec.bind_pipeline(&self.classify);
         cx.rec.bind_descriptor_set(h.layout, 1, h.shadow_set);
         forward::draw_objects(cx.rec, h.layout, h.gpu, h.scene, h.light as u32, cx.log);
@@ -295,8 +293,7 @@ impl HybridPass {
             cx.rec.copy_image(h.depth, target);
             cx.enter(&[(h.depth, ImageState::DepthStencilAttachment), (target, ImageState::DepthStencilAttachment)]);
         }
-        let attach =
-            DepthAttachment { image: target, view: None, clear: None, clear_stencil: Some(0), read_only: false };
+        let attach = DepthAttachment::clearing_stencil(target, 0);
         cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(attach) });
         cx.rec.bind_pipeline(match h.mask {
             MaskKind::DepthBounds => &self.mask_depth_bounds,
@@ -318,7 +315,7 @@ impl HybridPass {
     pub fn record_volumes<'a>(&'a self, cx: &mut PassRecorder<'_, 'a>, h: &HybridLight<'a>) {
         let Some(vertices) = h.vertices else { return };
         let target = self.count_target(h.mask, h.depth);
-        cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(keep(target)) });
+        cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(DepthAttachment::keep(target)) });
         self.bind_volumes(cx.rec, h.mask, h.zfail);
         let b = VolumeBindings { layout: h.layout, gpu: h.gpu, vertices };
         b.bind(cx.rec);
@@ -330,7 +327,7 @@ impl HybridPass {
     pub fn record_silhouettes<'a>(&'a self, cx: &mut PassRecorder<'_, 'a>, h: &HybridLight<'a>) {
         let target = self.count_target(h.mask, h.depth);
         let color = [ColorAttachment { image: h.color, clear: None }];
-        cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(keep(target)) });
+        cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(DepthAttachment::keep(target)) });
         cx.rec.bind_pipeline(if h.mask == MaskKind::Stencil { &self.lit_count_bits } else { &self.lit });
         cx.rec.set_stencil_reference(0);
         cx.rec.bind_descriptor_set(h.layout, 1, h.shadow_set);
@@ -342,7 +339,7 @@ impl HybridPass {
     /// `query`; without a mask the query stays empty (the count is the unmasked one).
     pub fn record_fragments<'a>(&'a self, cx: &mut PassRecorder<'_, 'a>, h: &HybridLight<'a>, query: QueryId) {
         let target = self.count_target(h.mask, h.depth);
-        cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(keep(target)) });
+        cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(DepthAttachment::keep(target)) });
         cx.begin_query(query);
         let counting = match h.mask {
             MaskKind::DepthBounds => self.fragments_depth_bounds.as_ref(),
@@ -414,9 +411,4 @@ pub(crate) struct HybridLight<'a> {
     pub zfail: &'a GraphicsPipeline,
     /// The mask pass's samples.
     pub mask_query: QueryId,
-}
-
-/// Keeps depth and stencil of `image`.
-fn keep(image: &Image) -> DepthAttachment<'_> {
-    DepthAttachment { image, view: None, clear: None, clear_stencil: None, read_only: false }
 }

@@ -267,9 +267,8 @@ impl Renderer {
         let depth = &self.depth;
         if let Some((v, vertices)) = volumes {
             stage.pass(PassId::ShadowVolume(l), &[Use::Image(depth, Depth)], move |cx| {
-                let keep =
-                    DepthAttachment { image: depth, view: None, clear: None, clear_stencil: Some(0), read_only: false };
-                cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(keep) });
+                let stencil = DepthAttachment::clearing_stencil(depth, 0);
+                cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(stencil) });
                 let b = VolumeBindings { layout: &self.layout, gpu: f.gpu, vertices };
                 self.shadow_volume.record_stencil(cx.rec, b, v, l as u32, bounds, cx.log);
                 cx.rec.end_rendering();
@@ -279,7 +278,7 @@ impl Renderer {
         let uses = [&[Use::Image(&self.color, Color), Use::Image(depth, Depth)], reads].concat();
         stage.pass(PassId::Light(l, plan.kind), &uses, move |cx| {
             let color = [ColorAttachment { image: &self.color, clear: None }];
-            cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(keep(depth)) });
+            cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(DepthAttachment::keep(depth)) });
             // Test the stencil only after this light's own stencil pass (which cleared it).
             let stenciled = volumes.is_some();
             let (layout, light) = (&self.layout, l as u32);
@@ -311,7 +310,7 @@ impl Renderer {
         uses.extend_from_slice(reads);
         stage.pass(PassId::LightDiagnostics(l), &uses, move |cx| {
             let color = [ColorAttachment { image: class, clear: Some([0.0; 4]) }];
-            cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(keep(depth)) });
+            cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(DepthAttachment::keep(depth)) });
             self.forward.record_classes(cx.rec, &self.layout, f.gpu, shadow_set, f.scene, l as u32, cx.log);
             cx.rec.end_rendering();
             cx.enter(&[(class, ImageState::TransferSrc)]);
@@ -378,7 +377,7 @@ impl Renderer {
                 ColorAttachment { image: class, clear: Some(crate::diagnostics::BACKGROUND) },
                 ColorAttachment { image: points, clear: Some([0.0; 4]) },
             ];
-            cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(keep(depth)) });
+            cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(DepthAttachment::keep(depth)) });
             self.silhouette_map.record_diagnostics(cx.rec, &self.layout, f.gpu, shadow_set, f.scene, l as u32, cx.log);
             cx.rec.end_rendering();
             let src = ImageState::TransferSrc;
@@ -406,9 +405,4 @@ impl Renderer {
             Ok(())
         });
     }
-}
-
-/// Keeps depth and stencil of `image`, as an attachment.
-fn keep(image: &umbra_vk::Image) -> DepthAttachment<'_> {
-    DepthAttachment { image, view: None, clear: None, clear_stencil: None, read_only: false }
 }
