@@ -11,13 +11,15 @@ mod common;
 use umbra::scene::Technique;
 use umbra::shadows::{PassId, Renderer, RendererDesc};
 
-/// The renderer variants: plain, every view (diagnostics, G-buffer, overdraw), blocker culling.
+/// The renderer variants: plain, every view (diagnostics, G-buffer, visibility readbacks,
+/// overdraw), blocker culling.
 fn variants() -> [(&'static str, RendererDesc); 3] {
     let mut plain = RendererDesc::new(128, 96);
     plain.shadow_map.resolution = 512;
     let mut views = plain;
     views.diagnostics = true;
     views.gbuffer = true;
+    views.read_visibility = true;
     views.shadow_volume.overdraw = true;
     let mut culling = plain;
     culling.hybrid.cull_blockers = true;

@@ -3,43 +3,32 @@
 // (EQUAL). One hardware 2x2 PCF fetch (SHADOW_FILTER is specialized to pcf2x2 and the shadow
 // set binds a LINEAR comparison sampler): a result strictly between 0 and 1 on a surface facing
 // the light marks a silhouette pixel, left for the shadow volumes; anywhere else the map
-// decides, and this pass adds the light's contribution. Surfaces facing away from the light are
-// shadowed, never silhouette pixels.
-// Location 0: the frame's colour (additive). Location 1: the pixel's class (hybrid/classes.glsl).
-#include "common/scene.glsl"
-#include "debug/classes.glsl"
-#include "forward/lambert.glsl"
+// decides. Surfaces facing away from the light are never silhouette pixels.
+// Location 0: the light's visibility image (visibility/image.glsl), written here where the map
+// decides (hybrid/resolve.frag writes the silhouette pixels' from their stencil count).
+// Location 1: the pixel's class (hybrid/classes.glsl).
 #include "shadow_map/lookup.glsl"
+#include "debug/classes.glsl"
+#include "visibility/surface.glsl"
 
-layout(location = 0) in vec3 world_position;
-layout(location = 1) in vec3 world_normal;
-layout(location = 2) flat in vec3 albedo;
-
-layout(location = 0) out vec4 out_color;
 layout(location = 1) out vec4 out_class;
 
 void main() {
     Light l = lights[push.view];
-    vec3 n = normalize(world_normal);
-    if (!gl_FrontFacing) {
-        n = -n;
-    }
-    float lambert = lambert_attenuated(l, world_position, n);
-    out_color = vec4(0.0);
-    if (objects[push.object].albedo.a <= 0.5) {
-        out_class = CLASS_NOT_RECEIVER;
-        out_color = vec4(albedo * l.radiance.rgb * lambert, 0.0);
-        return;
-    }
-    if (lambert <= 0.0) {
-        out_class = CLASS_UNREACHED; // back-facing: never lit, never a silhouette (Fig. 4's diffuse > 0)
+    vec3 n = viewer_normal();
+    // The class of every fragment is written, so unreached ones write their visibility too
+    // (the last of two fragments at one depth decides the pixel).
+    if (!shadow_in_question(l, n, false)) {
+        // Not a receiver, or back-facing: never a silhouette (Fig. 4's diffuse > 0).
+        out_class = out_visibility == VISIBILITY_NOT_RECEIVER ? CLASS_NOT_RECEIVER : CLASS_UNREACHED;
         return;
     }
     float v = shadow_visibility(l, world_position, n);
     if (v > 0.0 && v < 1.0) {
-        out_class = CLASS_SILHOUETTE_LIT; // the volumes decide (lit.frag adds it where lit)
+        out_class = CLASS_SILHOUETTE_LIT; // the volumes decide (hybrid/resolve.frag)
+        out_visibility = VISIBILITY_UNREACHED; // until resolved
         return;
     }
     out_class = v > 0.5 ? CLASS_MAP_LIT : CLASS_MAP_SHADOWED;
-    out_color = vec4(albedo * l.radiance.rgb * (lambert * v), 0.0);
+    out_visibility = visibility_decided(v);
 }

@@ -1,12 +1,13 @@
-//! `umbra-bench fingerprint`: one line per configuration with two hashes of everything a frame
+//! `umbra-bench fingerprint`: one line per configuration with three hashes of everything a frame
 //! returns except its times — one of the pixels, the overdraw and diagnostic views and the
-//! G-buffer, one of the report with every `*_ms` field left out. Run it before and after a refactor that must
-//! not change behaviour and `diff` the two outputs: equal lines are the same images, bit for
-//! bit, and the same report fields.
+//! G-buffer, one of the report with every `*_ms` field left out, one of the visibility images —
+//! and, where the frame has both, how many pixels the lights' visibility images and their
+//! classifications disagree on (`masks N`, `VisibilityImage::disagreements_with`). Run it before and
+//! after a refactor that must not change behaviour and `diff` the two outputs: equal lines are
+//! the same images, bit for bit, and the same report fields.
 
 use crate::{scenes, BenchResult};
 use serde_json::Value;
-use std::fmt::Write as _;
 use umbra_scene::Technique;
 use umbra_shadows::{Frame, MaskKind, Renderer, RendererDesc, VolumeMode};
 
@@ -37,7 +38,13 @@ pub fn run(args: &FingerprintArgs) -> BenchResult<()> {
         for technique in Technique::ALL {
             for &variant in VARIANTS {
                 let line = match fingerprint(&ctx, name, technique, variant, args) {
-                    Ok((images, report)) => format!("images {images:016x} report {report:016x}"),
+                    Ok(f) => format!(
+                        "images {:016x} report {:016x} visibility {:016x} masks {}",
+                        f.images,
+                        f.report,
+                        f.visibility,
+                        f.mask_disagreements.map_or_else(|| "-".into(), |n| n.to_string())
+                    ),
                     Err(e) => format!("error: {e}"),
                 };
                 println!("{name} {} {variant} {line}", technique.name());
@@ -53,7 +60,7 @@ fn fingerprint(
     technique: Technique,
     variant: &str,
     args: &FingerprintArgs,
-) -> BenchResult<(u64, u64)> {
+) -> BenchResult<Fingerprint> {
     let (width, height) = args.size;
     let mut scene = scenes::load(name, variant == "spots", (variant == "culled").then_some(6.0))?;
     for light in &mut scene.lights {
@@ -64,6 +71,7 @@ fn fingerprint(
         "views" => {
             desc.diagnostics = true;
             desc.gbuffer = true;
+            desc.read_visibility = true;
             desc.shadow_volume.overdraw = true;
         }
         "no-cull" => desc.cull = false,
@@ -85,18 +93,26 @@ fn fingerprint(
     Ok(hash_frame(&frame, &args.ignore))
 }
 
-/// FNV-1a over the images of `frame` (pixels, overdraw, diagnostic views, G-buffer), and over
-/// its report but for its times and the fields `ignore`d.
-fn hash_frame(frame: &Frame, ignore: &[String]) -> (u64, u64) {
+/// What `fingerprint` prints of one frame.
+struct Fingerprint {
+    images: u64,
+    report: u64,
+    visibility: u64,
+    /// Pixels where a light's visibility image and its classification give another shadow mask,
+    /// summed over the lights that have both.
+    mask_disagreements: Option<u64>,
+}
+
+/// FNV-1a over the images of `frame` (pixels, overdraw, diagnostic views, G-buffer), over its
+/// report but for its times and the fields `ignore`d, and over its visibility images.
+fn hash_frame(frame: &Frame, ignore: &[String]) -> Fingerprint {
     let mut h = Fnv::default();
     h.bytes(&frame.rgba);
     if let Some(o) = &frame.overdraw {
         h.bytes(o);
     }
     for d in &frame.diagnostics {
-        let mut text = String::new();
-        let _ = write!(text, "{}", d.light);
-        h.bytes(text.as_bytes());
+        h_light(&mut h, d.light);
         h.bytes(&d.classification);
         for part in [&d.points, &d.stencil].into_iter().flatten() {
             h.bytes(part);
@@ -112,7 +128,20 @@ fn hash_frame(frame: &Frame, ignore: &[String]) -> (u64, u64) {
     strip(&mut report, ignore);
     let mut r = Fnv::default();
     r.bytes(report.to_string().as_bytes());
-    (h.0, r.0)
+    let mut v = Fnv::default();
+    let mut mask_disagreements = None;
+    for image in &frame.visibility {
+        h_light(&mut v, image.light);
+        image.texels.iter().flatten().for_each(|f| v.bytes(&f.to_le_bytes()));
+        if let Some(d) = frame.diagnostics.iter().find(|d| d.light == image.light) {
+            *mask_disagreements.get_or_insert(0) += image.disagreements_with(&d.shadow_mask());
+        }
+    }
+    Fingerprint { images: h.0, report: r.0, visibility: v.0, mask_disagreements }
+}
+
+fn h_light(h: &mut Fnv, light: usize) {
+    h.bytes(light.to_string().as_bytes());
 }
 
 /// Removes every `*_ms` field (GPU and CPU times) and every field named in `ignore`, recursively.

@@ -230,7 +230,7 @@ pub fn place_labels(anchors: &[(i32, i32)], sizes: &[(u32, u32)], bounds: (u32, 
 
 /// The group a pass belongs to in the breakdown.
 pub fn pass_group(name: &str) -> &'static str {
-    const GROUPS: [(&str, &str); 12] = [
+    const GROUPS: [(&str, &str); 15] = [
         ("ambient", "depth + ambient"),
         ("shadow_map", "shadow map"),
         ("silhouette_map", "silhouette points"),
@@ -239,6 +239,9 @@ pub fn pass_group(name: &str) -> &'static str {
         ("computation mask", "computation mask"),
         ("hybrid volumes", "shadow volumes"),
         ("shadow_volume", "shadow volumes"),
+        ("visibility readback", "diagnostics"),
+        ("visibility", "visibility"),
+        ("hybrid visibility", "visibility"),
         ("light", "lighting"),
         ("readback", "readback"),
         ("g-buffer", "diagnostics"),
@@ -247,7 +250,7 @@ pub fn pass_group(name: &str) -> &'static str {
     GROUPS.iter().find(|(prefix, _)| name.starts_with(prefix)).map_or("other", |&(_, g)| g)
 }
 
-const GROUP_ORDER: [&str; 10] = [
+const GROUP_ORDER: [&str; 11] = [
     "depth + ambient",
     "shadow map",
     "silhouette points",
@@ -255,6 +258,7 @@ const GROUP_ORDER: [&str; 10] = [
     "eye pass (classify)",
     "computation mask",
     "shadow volumes",
+    "visibility",
     "lighting",
     "readback",
     "other",
@@ -456,7 +460,9 @@ mod tests {
         assert_eq!(pass_group("hybrid volumes 0"), "shadow volumes");
         assert_eq!(pass_group("shadow_volume 1"), "shadow volumes");
         assert_eq!(pass_group("light 0 (point)"), "lighting");
-        assert_eq!(pass_group("light 0 silhouettes"), "lighting");
+        assert_eq!(pass_group("hybrid visibility 0"), "visibility");
+        assert_eq!(pass_group("visibility 1 (stencil)"), "visibility");
+        assert_eq!(pass_group("visibility readback 1"), "diagnostics");
         assert_eq!(pass_group("shadow_map 0"), "shadow map");
     }
 }

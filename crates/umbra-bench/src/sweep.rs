@@ -77,8 +77,9 @@ pub fn unsupported(ctx: &Context, config: &Config) -> Option<String> {
     }
 }
 
-/// The renderer settings of `config`: diagnostics (classification), G-buffer and volume
-/// overdraw on, all as diagnostic passes outside the technique's timed total.
+/// The renderer settings of `config`: diagnostics (classification), G-buffer, the visibility
+/// images' readback and volume overdraw on, all as diagnostic passes outside the technique's
+/// timed total.
 pub fn renderer_desc(config: &Config, width: u32, height: u32) -> BenchResult<RendererDesc> {
     let mut desc = RendererDesc::new(width, height);
     if let Some(s) = config.sm_size {
@@ -92,6 +93,7 @@ pub fn renderer_desc(config: &Config, width: u32, height: u32) -> BenchResult<Re
     desc.shadow_volume.overdraw = true;
     desc.diagnostics = true;
     desc.gbuffer = true;
+    desc.read_visibility = true;
     Ok(desc)
 }
 
@@ -282,7 +284,7 @@ fn fill(frame: &Frame) -> Fill {
     }
 }
 
-/// Every light's mask against the reference from the frame's own G-buffer; writes the first
+/// Every light's visibility image against the reference from the frame's own G-buffer; writes the first
 /// light's error image as `<dir>/<id>-error.png` and returns it (empty without a light).
 fn score(scene: &Scene, bvh: &SceneBvh, frame: &Frame, dir: &Path, id: &str) -> BenchResult<(Accuracy, Vec<u8>)> {
     let gbuffer =
@@ -293,7 +295,8 @@ fn score(scene: &Scene, bvh: &SceneBvh, frame: &Frame, dir: &Path, id: &str) -> 
     let (mut max_distance, mut undecided, mut band_px) = (None::<f32>, 0, umbra_reference::EDGE_BAND_PX);
     let mut first_error = Vec::new();
     for (i, d) in frame.diagnostics.iter().enumerate() {
-        let technique = ShadowMask::new(frame.width, frame.height, d.shadow_mask())?;
+        let mask = frame.shadow_mask(d.light).unwrap_or_default();
+        let technique = ShadowMask::new(frame.width, frame.height, mask)?;
         let truth = ShadowMask::reference(scene, bvh, d.light, &surfaces)?;
         let c = Comparison::new(&technique, &truth)?;
         all += c.all;

@@ -1,8 +1,11 @@
 //! How a technique's shadow masks are judged against the exact reference.
 //!
-//! Every light's mask (the renderer's classification) is compared with
-//! [`umbra_reference::ShadowMask::reference`] on the frame's own G-buffer, so visibility is
-//! shared and only the shadow decision is judged. A wrong pixel is **explained** by its
+//! Every light's mask (its visibility image, `umbra_shadows::VisibilityImage::shadow_mask`) is
+//! compared with [`umbra_reference::ShadowMask::reference`] on the frame's own G-buffer, so
+//! which surface each pixel shows is shared and only the shadow decision is judged. The
+//! light's classification (a diagnostic view) must give the very same mask
+//! ([`Judgement::class_disagreements`]); it also tells which pixels the hybrid's volumes
+//! decided. A wrong pixel is **explained** by its
 //! technique's own tolerance, or **unexplained**:
 //!
 //! - **Shadow volumes** decide each pixel exactly at its centre, so a wrong pixel is explained
@@ -87,6 +90,10 @@ pub struct Judgement {
     pub unexplained_at: Vec<(usize, u32, u32)>,
     /// Lights whose mask decided fewer than [`MIN_COMPARED`] pixels.
     pub thin_lights: Vec<usize>,
+    /// Pixels a light's classification decides and its visibility image does not agree on
+    /// (`VisibilityImage::disagreements_with`), summed over lights: 0 unless the visibility
+    /// passes and the diagnostic views decide differently.
+    pub class_disagreements: u64,
 }
 
 impl Judgement {
@@ -114,8 +121,8 @@ impl Judgement {
 }
 
 /// Judges every light of `frame` (rendered from `scene`, whose lights all use `technique`,
-/// with diagnostics and a G-buffer); returns the judgement and, per light, the technique's and
-/// the true mask.
+/// with diagnostics, the visibility readback and a G-buffer); returns the judgement and, per
+/// light, the technique's and the true mask.
 pub fn judge(
     scene: &Scene,
     bvh: &SceneBvh,
@@ -129,7 +136,10 @@ pub fn judge(
     for d in &frame.diagnostics {
         let light = scene.lights.get(d.light).ok_or_else(|| missing("diagnostics of a scene light"))?;
         let map = frame.report.lights.get(d.light).and_then(|l| l.shadow_map.as_ref());
-        let mask = ShadowMask::new(frame.width, frame.height, d.shadow_mask())?;
+        let visibility = frame.visibility.iter().find(|v| v.light == d.light);
+        j.class_disagreements += visibility.map_or(0, |v| v.disagreements_with(&d.shadow_mask()));
+        let mask = frame.shadow_mask(d.light).unwrap_or_default();
+        let mask = ShadowMask::new(frame.width, frame.height, mask)?;
         let truth = ShadowMask::reference(scene, bvh, d.light, &surfaces)?;
         j.shadowed += truth.counts().0;
         let mut compared = 0;

@@ -171,6 +171,7 @@ pub fn run_technique(
     let mut desc = RendererDesc::new(size.0, size.1);
     desc.diagnostics = true;
     desc.gbuffer = true;
+    desc.read_visibility = true;
     let mut out = TechniqueRun {
         technique,
         verdict: Verdict::Pass,
@@ -213,6 +214,7 @@ pub fn run_technique(
 
 fn same_output(a: &Frame, b: &Frame) -> bool {
     a.rgba == b.rgba
+        && a.visibility == b.visibility
         && a.diagnostics.len() == b.diagnostics.len()
         && a.diagnostics.iter().zip(&b.diagnostics).all(|(x, y)| x.classification == y.classification)
 }
@@ -230,6 +232,12 @@ fn verdict(
     }
     if !deterministic {
         return Verdict::Fail("two frames of the same scene differ".into());
+    }
+    if j.class_disagreements > 0 {
+        return Verdict::Fail(format!(
+            "the visibility images and the classifications disagree on {} pixels",
+            j.class_disagreements
+        ));
     }
     if !j.thin_lights.is_empty() {
         return Verdict::Fail(format!("lights {:?} decide too few pixels to judge", j.thin_lights));

@@ -4,9 +4,10 @@
 //! silhouette points as the camera sees them (Sen et al. Fig. 9, middle) and the map itself;
 //! for the hybrid, the stencil after its volumes and the fill image (Chan–Durand Fig. 10).
 //! Shadow-map and shadow-volume lights get the classification alone (`light diagnostics N`,
-//! `forward/light.frag` with OUTPUT_CLASSES; a shadow-volume light's classes come from its
-//! stencil). [`LightDiagnostics::shadow_mask`] turns any of them into the light's shadow mask,
-//! the technique's side of a comparison with the exact reference.
+//! `debug/light_classes.frag`; a shadow-volume light's classes come from its stencil).
+//! [`LightDiagnostics::shadow_mask`] turns any of them into the light's shadow mask; the
+//! accuracy measurements use the visibility image's instead
+//! ([`crate::VisibilityImage::shadow_mask`]), which the suite checks equal to it.
 
 use crate::RenderResult;
 use umbra_vk::{Buffer, BufferDesc, Context, Image};
@@ -237,14 +238,7 @@ impl DiagnosticReadback {
     }
 
     pub fn read(&self, light: usize) -> RenderResult<LightDiagnostics> {
-        let raw = self.silhouette_map.read()?;
-        let points = raw
-            .chunks_exact(8)
-            .map(|c| {
-                let f = |b: &[u8]| f32::from_le_bytes([b[0], b[1], b[2], b[3]]);
-                [f(&c[..4]), f(&c[4..])]
-            })
-            .collect();
+        let points = crate::visibility::rg32f_texels(&self.silhouette_map.read()?);
         Ok(LightDiagnostics {
             light,
             classification: self.classification.read()?,

@@ -1,6 +1,6 @@
 //! The forward lighting passes: one pass lays down depth and the ambient term, then one
-//! additive pass per light applies Lambert's law, times the light's shadow visibility, where
-//! the depth is EQUAL.
+//! additive pass per light applies Lambert's law, times the light's visibility image
+//! (`crate::visibility`), where the depth is EQUAL.
 //!
 //! Both pipelines share `forward/mesh.vert` (with `invariant gl_Position`), so the EQUAL test
 //! sees bit-identical depths. Faces are not culled: open meshes show their inside, lit from
@@ -13,7 +13,7 @@ use crate::RenderResult;
 use umbra_scene::Scene;
 use umbra_vk::{
     vk, Blend, ColorTarget, Context, DepthState, DescriptorSet, GraphicsPipeline, GraphicsPipelineDesc, PipelineLayout,
-    Recorder, StencilFace,
+    Recorder,
 };
 
 /// Where a bounded light's passes may draw (`LightPlan::scissor`, `LightPlan::depth_bounds`).
@@ -86,15 +86,17 @@ impl Bounded {
 /// The forward pipelines.
 pub(crate) struct Forward {
     ambient: GraphicsPipeline,
+    /// The light pass of a shadowed light: times its visibility image (set 2).
     light: Bounded,
-    /// The light pass of shadow-volume lights: lit only where the stencil count is 0.
-    light_stenciled: Bounded,
-    /// The light pass writing each pixel's class instead of light (with diagnostics).
+    /// The light pass of a light that casts no shadow here.
+    unshadowed: Bounded,
+    /// The light pass's decisions written as each pixel's class (with diagnostics).
     classes: Option<GraphicsPipeline>,
 }
 
 impl Forward {
-    /// Builds both pipelines against the renderer's shared `layout` (set 0 scene, set 1 shadow).
+    /// Builds the pipelines against the renderer's shared `layout` (set 0 scene, set 1 shadow,
+    /// set 2 visibility).
     pub fn new(
         ctx: &Context,
         layout: &PipelineLayout,
@@ -112,31 +114,25 @@ impl Forward {
         desc.color_targets = &opaque;
         let ambient = GraphicsPipeline::new(ctx, layout, &desc)?;
 
-        let spec = shadow_spec(shadow);
-        let mut desc =
-            surface_pass_desc("forward light (additive)", umbra_shaders::forward::LIGHT_FRAG, depth_format, &spec);
         let additive = [ColorTarget { blend: Some(Blend::ADDITIVE), ..ColorTarget::opaque(color_format) }];
-        desc.color_targets = &additive;
-        let light = Bounded::new(ctx, layout, &desc, depth_bounds)?;
-        desc.name = "forward light (additive, stencil == 0)";
-        let zero = StencilFace { compare: vk::CompareOp::EQUAL, write_mask: 0, ..StencilFace::KEEP };
-        desc.stencil = Some((zero, zero));
-        let light_stenciled = Bounded::new(ctx, layout, &desc, depth_bounds)?;
+        let light_pass = |name, shadowed: bool| {
+            let spec = [(0, u32::from(shadowed))];
+            let mut desc = surface_pass_desc(name, umbra_shaders::forward::LIGHT_FRAG, depth_format, &spec);
+            desc.color_targets = &additive;
+            Bounded::new(ctx, layout, &desc, depth_bounds)
+        };
+        let light = light_pass("forward light (additive, visibility image)", true)?;
+        let unshadowed = light_pass("forward light (additive, unshadowed)", false)?;
         let classes = if diagnostics {
-            let [filter, outside] = spec;
-            let spec = [filter, outside, (2, 1)];
-            let mut desc = surface_pass_desc(
-                "light diagnostics (classes)",
-                umbra_shaders::forward::LIGHT_FRAG,
-                depth_format,
-                &spec,
-            );
+            let spec = shadow_spec(shadow);
+            let frag = umbra_shaders::debug::LIGHT_CLASSES_FRAG;
+            let mut desc = surface_pass_desc("light diagnostics (classes)", frag, depth_format, &spec);
             desc.color_targets = &opaque;
             Some(GraphicsPipeline::new(ctx, layout, &desc)?)
         } else {
             None
         };
-        Ok(Self { ambient, light, light_stenciled, classes })
+        Ok(Self { ambient, light, unshadowed, classes })
     }
 
     /// Draws every object with the ambient pipeline (inside an open rendering pass).
@@ -152,38 +148,29 @@ impl Forward {
         draw_objects(rec, layout, gpu, scene, 0, log);
     }
 
-    /// Draws every object lit by light `light`, whose shadow maps `shadow_set` binds (inside an
-    /// open rendering pass), within `bounds`. With `stenciled`, objects that receive shadows
-    /// only where the stencil holds 0 (shadow volumes); the others are lit unshadowed.
+    /// Draws every object lit by light `light` (inside an open rendering pass), within
+    /// `bounds`: with `shadowed`, times the visibility image `visibility` binds (in
+    /// [`umbra_vk::ImageState::FragmentRead`]); without, unshadowed (`visibility` then binds a
+    /// placeholder).
     #[allow(clippy::too_many_arguments)]
     pub fn record_light<'a>(
         &'a self,
         rec: &mut Recorder<'a>,
         layout: &'a PipelineLayout,
         gpu: &'a GpuScene,
-        shadow_set: &'a DescriptorSet,
+        (visibility, shadowed): (&'a DescriptorSet, bool),
         scene: &Scene,
         light: u32,
-        stenciled: bool,
         bounds: PassBounds,
         log: &mut PassLog,
     ) {
-        if stenciled {
-            self.light_stenciled.bind(rec, bounds);
-            rec.set_stencil_reference(0);
-            rec.bind_descriptor_set(layout, 1, shadow_set);
-            draw_objects_where(rec, layout, gpu, scene, light, log, |o| o.receives_shadows);
-            if scene.objects.iter().all(|o| o.receives_shadows) {
-                return;
-            }
-        }
-        self.light.bind(rec, bounds);
-        rec.bind_descriptor_set(layout, 1, shadow_set);
-        draw_objects_where(rec, layout, gpu, scene, light, log, |o| !stenciled || !o.receives_shadows);
+        (if shadowed { &self.light } else { &self.unshadowed }).bind(rec, bounds);
+        rec.bind_descriptor_set(layout, 2, visibility);
+        draw_objects(rec, layout, gpu, scene, light, log);
     }
 
     /// Draws every object's class under light `light` (inside an open rendering pass with one
-    /// RGBA8 target): the decisions `record_light` shades with, written as colours.
+    /// RGBA8 target): the decisions its visibility pass makes, written as colours.
     /// Nothing is drawn when the pipelines were built without diagnostics.
     #[allow(clippy::too_many_arguments)]
     pub fn record_classes<'a>(
@@ -237,27 +224,10 @@ pub(crate) fn draw_objects<'a>(
     light: u32,
     log: &mut PassLog,
 ) {
-    draw_objects_where(rec, layout, gpu, scene, light, log, |_| true);
-}
-
-/// Draws the objects `keep` accepts with the bound pipeline, light index `light` in the push
-/// constants.
-fn draw_objects_where<'a>(
-    rec: &mut Recorder<'a>,
-    layout: &'a PipelineLayout,
-    gpu: &'a GpuScene,
-    scene: &Scene,
-    light: u32,
-    log: &mut PassLog,
-    keep: impl Fn(&umbra_scene::Object) -> bool,
-) {
     rec.bind_descriptor_set(layout, 0, &gpu.frame.set);
     rec.bind_vertex_buffer(&gpu.geometry.vertices);
     rec.bind_index_buffer(&gpu.geometry.indices);
     for (i, o) in scene.objects.iter().enumerate() {
-        if !keep(o) {
-            continue;
-        }
         let Some(m) = gpu.geometry.meshes.get(o.mesh) else { continue };
         if m.index_count == 0 {
             continue;

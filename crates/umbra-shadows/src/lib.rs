@@ -1,8 +1,9 @@
 //! # umbra-shadows — the renderer and the shadow technique modules
 //!
 //! [`Renderer`] renders a [`umbra_scene::Scene`] into a headless target: a depth + ambient
-//! pass, then per light the passes of the [`umbra_scene::Technique`] the scene asked for and an
-//! additive Lambert pass, then a readback. Each frame returns its pixels and a
+//! pass, then per light the passes of the [`umbra_scene::Technique`] the scene asked for, which
+//! write the light's [`visibility`] image, and an additive Lambert pass that multiplies by it,
+//! then a readback. Each frame returns its pixels and a
 //! [`FrameReport`] (device, capabilities, scene, per-light plan, per-pass GPU times) that
 //! serialises to JSON.
 //!
@@ -30,6 +31,7 @@ pub mod silhouette_map;
 mod streams;
 mod technique;
 mod timing;
+pub mod visibility;
 
 pub use budget::{ShadowStorage, DEFAULT_SHADOW_MAP_BUDGET};
 pub use diagnostics::{GBuffer, LightDiagnostics, PixelClass, SilhouetteMapImage};
@@ -45,3 +47,4 @@ pub use report::{FrameReport, MeshTopology, SceneSummary, TopologySource, Volume
 pub use shadow_map::{DepthBias, ShadowFilter, ShadowMapSettings};
 pub use shadow_volume::{FarPlane, ShadowVolumeSettings, VolumeMode};
 pub use timing::PassReport;
+pub use visibility::{VisibilityImage, VISIBILITY_FORMAT};

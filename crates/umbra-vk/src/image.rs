@@ -63,7 +63,7 @@ pub fn texel_size(format: vk::Format) -> Option<u32> {
     match format {
         vk::Format::R8G8B8A8_UNORM | vk::Format::R8G8B8A8_SRGB | vk::Format::B8G8R8A8_UNORM => Some(4),
         vk::Format::R32_SFLOAT | vk::Format::D32_SFLOAT | vk::Format::R32_UINT => Some(4),
-        vk::Format::R16G16B16A16_SFLOAT => Some(8),
+        vk::Format::R16G16B16A16_SFLOAT | vk::Format::R32G32_SFLOAT => Some(8),
         vk::Format::R32G32B32A32_SFLOAT => Some(16),
         _ => None,
     }

@@ -20,16 +20,21 @@ pub enum PassId {
     GBuffer,
     /// Everitt–Kilgard: the stencil counts of a shadow-volume light.
     ShadowVolume(usize),
-    /// The additive lighting of a light, with its shadow test.
+    /// A shadow-volume light's stencil counts resolved into its visibility image.
+    StencilVisibility(usize),
+    /// A shadow-map or silhouette-map light's map looked up into its visibility image.
+    MapVisibility(usize),
+    /// The additive lighting of a light, times its visibility image.
     Light(usize, LightKind),
-    /// Chan–Durand §3 step 2: classify every visible pixel, shade those the map decides.
+    /// Chan–Durand §3 step 2: classify every visible pixel; the map decides the visibility of
+    /// all but the silhouette pixels.
     HybridClassify(usize),
     /// Chan–Durand §4: the computation mask.
     ComputationMask(usize),
     /// Chan–Durand §3 step 3: z-fail volumes through the mask.
     HybridVolumes(usize),
-    /// Chan–Durand §3 step 4: silhouette pixels lit where their count is zero.
-    HybridSilhouettes(usize),
+    /// Chan–Durand §3 step 4: the silhouette pixels' visibility from their stencil counts.
+    HybridVisibility(usize),
     /// Diagnostic: the volume fragments the hybrid's mask lets through.
     MaskedVolumeFragments(usize),
     /// Diagnostic: the hybrid's classes and stencil copied out.
@@ -40,6 +45,8 @@ pub enum PassId {
     VolumeOverdraw(usize),
     /// Diagnostic: a silhouette-map light's classification and silhouette points.
     SilhouetteDiagnostics(usize),
+    /// Diagnostic: a light's visibility image copied out (`RendererDesc::read_visibility`).
+    VisibilityReadback(usize),
     /// The colour target copied out.
     Readback,
 }
@@ -55,16 +62,19 @@ impl PassId {
             PassId::Ambient => "ambient".into(),
             PassId::GBuffer => "g-buffer".into(),
             PassId::ShadowVolume(l) => format!("shadow_volume {l}"),
+            PassId::StencilVisibility(l) => format!("visibility {l} (stencil)"),
+            PassId::MapVisibility(l) => format!("visibility {l}"),
             PassId::Light(l, kind) => format!("light {l} ({kind:?})").to_lowercase(),
             PassId::HybridClassify(l) => format!("hybrid classify {l}"),
             PassId::ComputationMask(l) => format!("computation mask {l}"),
             PassId::HybridVolumes(l) => format!("hybrid volumes {l}"),
-            PassId::HybridSilhouettes(l) => format!("light {l} silhouettes"),
+            PassId::HybridVisibility(l) => format!("hybrid visibility {l}"),
             PassId::MaskedVolumeFragments(l) => format!("masked volume fragments {l}"),
             PassId::HybridDiagnostics(l) => format!("hybrid diagnostics {l}"),
             PassId::LightDiagnostics(l) => format!("light diagnostics {l}"),
             PassId::VolumeOverdraw(l) => format!("volume overdraw {l}"),
             PassId::SilhouetteDiagnostics(l) => format!("silhouette diagnostics {l}"),
+            PassId::VisibilityReadback(l) => format!("visibility readback {l}"),
             PassId::Readback => "readback".into(),
         }
     }
@@ -76,16 +86,19 @@ impl PassId {
             PassId::ShadowMap(l)
             | PassId::SilhouetteMap(l)
             | PassId::ShadowVolume(l)
+            | PassId::StencilVisibility(l)
+            | PassId::MapVisibility(l)
             | PassId::Light(l, _)
             | PassId::HybridClassify(l)
             | PassId::ComputationMask(l)
             | PassId::HybridVolumes(l)
-            | PassId::HybridSilhouettes(l)
+            | PassId::HybridVisibility(l)
             | PassId::MaskedVolumeFragments(l)
             | PassId::HybridDiagnostics(l)
             | PassId::LightDiagnostics(l)
             | PassId::VolumeOverdraw(l)
-            | PassId::SilhouetteDiagnostics(l) => Some(l),
+            | PassId::SilhouetteDiagnostics(l)
+            | PassId::VisibilityReadback(l) => Some(l),
         }
     }
 
@@ -100,6 +113,7 @@ impl PassId {
                 | PassId::LightDiagnostics(_)
                 | PassId::VolumeOverdraw(_)
                 | PassId::SilhouetteDiagnostics(_)
+                | PassId::VisibilityReadback(_)
         )
     }
 }
@@ -116,16 +130,19 @@ mod tests {
                 PassId::ShadowMap(l),
                 PassId::SilhouetteMap(l),
                 PassId::ShadowVolume(l),
+                PassId::StencilVisibility(l),
+                PassId::MapVisibility(l),
                 PassId::Light(l, LightKind::Spot),
                 PassId::HybridClassify(l),
                 PassId::ComputationMask(l),
                 PassId::HybridVolumes(l),
-                PassId::HybridSilhouettes(l),
+                PassId::HybridVisibility(l),
                 PassId::MaskedVolumeFragments(l),
                 PassId::HybridDiagnostics(l),
                 PassId::LightDiagnostics(l),
                 PassId::VolumeOverdraw(l),
                 PassId::SilhouetteDiagnostics(l),
+                PassId::VisibilityReadback(l),
             ]);
         }
         all
@@ -144,14 +161,15 @@ mod tests {
             }
         }
         assert_eq!(PassId::Light(3, LightKind::Point).name(), "light 3 (point)");
-        assert_eq!(PassId::HybridSilhouettes(2).name(), "light 2 silhouettes");
+        assert_eq!(PassId::HybridVisibility(2).name(), "hybrid visibility 2");
+        assert_eq!(PassId::StencilVisibility(1).name(), "visibility 1 (stencil)");
     }
 
     #[test]
     fn diagnostic_passes_are_the_views_only() {
         let diagnostic: Vec<String> = every_pass().iter().filter(|p| p.diagnostic()).map(|p| p.name()).collect();
-        assert_eq!(diagnostic.len(), 1 + 5 * 2, "{diagnostic:?}");
-        for p in [PassId::Ambient, PassId::ShadowMap(0), PassId::HybridVolumes(0), PassId::Readback] {
+        assert_eq!(diagnostic.len(), 1 + 6 * 2, "{diagnostic:?}");
+        for p in [PassId::Ambient, PassId::ShadowMap(0), PassId::MapVisibility(0), PassId::HybridVolumes(0)] {
             assert!(!p.diagnostic(), "{p:?} is part of the technique's cost");
         }
     }

@@ -1,6 +1,7 @@
 //! The passes of one hybrid light in the frame graph, in the paper's order (Chan–Durand §3):
 //! step 2 `hybrid classify`, §4 `computation mask`, step 3 `hybrid volumes`, step 4
-//! `light N silhouettes`, then the diagnostics asked for. Each declares the images it uses.
+//! `hybrid visibility`, then the diagnostics asked for. Each declares the images it uses. The
+//! light's lighting pass (declared by the renderer) reads the visibility image they wrote.
 
 use super::pass::{HybridLight, HybridPass};
 use crate::diagnostics::ClassReadback;
@@ -34,7 +35,7 @@ pub(crate) fn declare_light<'a>(
     let target = pass.count_target(h.mask, h.depth);
     let l = h.light;
 
-    let classify = [Use::Image(h.color, Color), Use::Image(classes, Color), Use::Image(h.depth, Depth)];
+    let classify = [Use::Image(h.visibility, Color), Use::Image(classes, Color), Use::Image(h.depth, Depth)];
     stage.pass(PassId::HybridClassify(l), &[&classify[..], &[Use::Image(map, Read)]].concat(), move |cx| {
         pass.record_classify(cx, &h);
         Ok(())
@@ -53,9 +54,9 @@ pub(crate) fn declare_light<'a>(
         pass.record_volumes(cx, &h);
         Ok(())
     });
-    let lit = [Use::Image(h.color, Color), Use::Image(target, Depth)];
-    stage.pass(PassId::HybridSilhouettes(l), &[&lit[..], &reads].concat(), move |cx| {
-        pass.record_silhouettes(cx, &h);
+    let resolve = [Use::Image(h.visibility, Color), Use::Image(target, Depth), Use::Image(classes, Read)];
+    stage.pass(PassId::HybridVisibility(l), &resolve, move |cx| {
+        pass.record_visibility(cx, &h);
         Ok(())
     });
     let fragments = fragments.then(|| {

@@ -1,7 +1,8 @@
 //! The pipelines and recording of a hybrid light's GPU passes (Chan–Durand §3–4), after its
 //! shadow map: `hybrid classify N` (step 2), `computation mask N` (§4), `hybrid volumes N`
-//! (step 3, the stencil pass), `light N silhouettes` (step 4), plus blocker culling (§6.3) and
-//! the diagnostic readbacks. `hybrid::frame` declares them, with the images each uses.
+//! (step 3, the stencil pass), `hybrid visibility N` (step 4: the silhouette pixels' visibility
+//! from their counts), plus blocker culling (§6.3) and the diagnostic readbacks. The light's
+//! lighting pass then reads the visibility image like every other technique's. `hybrid::frame` declares them, with the images each uses.
 
 use super::cull::BOX_VERTICES;
 use super::settings::{MaskKind, COUNT_BITS, DEPTH_BOUNDS_EPSILON, SILHOUETTE_BIT};
@@ -12,12 +13,12 @@ use crate::gpu_scene::{DrawPush, GpuScene};
 use crate::shadow_map::{self, ShadowFilter, ShadowMapSettings};
 use crate::shadow_volume::build::LightVolumes;
 use crate::shadow_volume::pass::{self as volume_pass, VolumeBindings};
+use crate::visibility::VISIBILITY_FORMAT;
 use crate::RenderResult;
 use umbra_scene::Scene;
 use umbra_vk::{
-    vk, Blend, Buffer, ColorAttachment, ColorTarget, Context, DepthAttachment, DepthState, DescriptorSet,
-    GraphicsPipeline, GraphicsPipelineDesc, Image, ImageDesc, ImageState, PipelineLayout, Recorder, RenderTargets,
-    StencilFace,
+    vk, Buffer, ColorAttachment, ColorTarget, Context, DepthAttachment, DepthState, DescriptorSet, GraphicsPipeline,
+    GraphicsPipelineDesc, Image, ImageDesc, ImageState, PipelineLayout, Recorder, RenderTargets, StencilFace,
 };
 
 /// The frame-sized images of the hybrid, reused by every hybrid light of a frame.
@@ -50,9 +51,10 @@ pub(crate) struct HybridPass {
     /// Z-fail volumes with the depth-bounds test (`None` without `depthBounds`).
     volumes_depth_bounds: Option<GraphicsPipeline>,
     volumes_stencil: GraphicsPipeline,
-    /// Silhouette pixels lit where the whole stencil is 0 / where its count bits are 0.
-    lit: GraphicsPipeline,
-    lit_count_bits: GraphicsPipeline,
+    /// Step 4, per counting target: silhouette pixels lit where the count (the whole stencil, or
+    /// its count bits with the stencil mask) is 0, shadowed where it is not.
+    resolve: [GraphicsPipeline; 2],
+    resolve_count_bits: [GraphicsPipeline; 2],
     /// Diagnostic: volume fragments the mask lets through (depth and stencil untouched).
     fragments_depth_bounds: Option<GraphicsPipeline>,
     fragments_stencil: GraphicsPipeline,
@@ -90,7 +92,6 @@ impl HybridPass {
     pub fn new(
         ctx: &Context,
         layout: &PipelineLayout,
-        color_format: vk::Format,
         depth_format: vk::Format,
         shadow: &ShadowMapSettings,
         clamp: bool,
@@ -100,10 +101,7 @@ impl HybridPass {
         let spec = forward::shadow_spec(&ShadowMapSettings { filter: ShadowFilter::Pcf2x2, ..*shadow });
         let mut desc =
             forward::surface_pass_desc("hybrid classify", umbra_shaders::hybrid::CLASSIFY_FRAG, depth_format, &spec);
-        // Both targets blend additively (one blend state: no `independentBlend` needed); the
-        // classes target is cleared to 0 and written once per pixel, so it holds the class.
-        let additive = ColorTarget { blend: Some(Blend::ADDITIVE), ..ColorTarget::opaque(color_format) };
-        let targets = [additive, additive];
+        let targets = [ColorTarget::opaque(VISIBILITY_FORMAT), ColorTarget::opaque(crate::COLOR_FORMAT)];
         desc.color_targets = &targets;
         let classify = GraphicsPipeline::new(ctx, layout, &desc)?;
 
@@ -160,18 +158,29 @@ impl HybridPass {
         desc.stencil = Some((bit, bit));
         let fragments_stencil = GraphicsPipeline::new(ctx, layout, &desc)?;
 
-        // Step 4: silhouette pixels lit where the count is zero.
-        let lit_frag = umbra_shaders::hybrid::LIT_FRAG;
-        let mut desc = forward::surface_pass_desc("hybrid lit (stencil == 0)", lit_frag, depth_format, &[]);
-        let additive = [ColorTarget { blend: Some(Blend::ADDITIVE), ..ColorTarget::opaque(color_format) }];
-        desc.color_targets = &additive;
-        let zero = test_only(vk::CompareOp::EQUAL, 0xff);
-        desc.stencil = Some((zero, zero));
-        let lit = GraphicsPipeline::new(ctx, layout, &desc)?;
-        desc.name = "hybrid lit (stencil & 0x7f == 0)";
-        let zero = test_only(vk::CompareOp::EQUAL, COUNT_BITS);
-        desc.stencil = Some((zero, zero));
-        let lit_count_bits = GraphicsPipeline::new(ctx, layout, &desc)?;
+        // Step 4: the silhouette pixels' visibility, 1 where the count is zero, 0 elsewhere.
+        let target = [ColorTarget::opaque(VISIBILITY_FORMAT)];
+        let resolve_pipeline = |name: &str, lit: bool, count_bits: u32| {
+            let compare = if lit { vk::CompareOp::EQUAL } else { vk::CompareOp::NOT_EQUAL };
+            let name = format!("hybrid visibility ({name})");
+            let spec = [(0, 0), (1, u32::from(lit))];
+            let mut desc = GraphicsPipelineDesc::new(&name, umbra_shaders::fullscreen::TRIANGLE_VERT);
+            desc.fragment = Some(umbra_shaders::hybrid::RESOLVE_FRAG);
+            desc.specialization = &spec;
+            desc.cull = vk::CullModeFlags::NONE;
+            // The stencil test alone: the frame's depth must reach the lighting pass untouched.
+            desc.depth = DepthState::NONE;
+            desc.depth_format = depth_format;
+            desc.color_targets = &target;
+            let face = test_only(compare, count_bits);
+            desc.stencil = Some((face, face));
+            GraphicsPipeline::new(ctx, layout, &desc)
+        };
+        let resolve = [resolve_pipeline("stencil == 0", true, 0xff)?, resolve_pipeline("stencil != 0", false, 0xff)?];
+        let resolve_count_bits = [
+            resolve_pipeline("stencil & 0x7f == 0", true, COUNT_BITS)?,
+            resolve_pipeline("stencil & 0x7f != 0", false, COUNT_BITS)?,
+        ];
 
         // §6.3: boxes from the light against its map.
         let mut desc = GraphicsPipelineDesc::new("hybrid blocker boxes", umbra_shaders::hybrid::BOX_VERT);
@@ -195,8 +204,8 @@ impl HybridPass {
             mask_none,
             volumes_depth_bounds,
             volumes_stencil,
-            lit,
-            lit_count_bits,
+            resolve,
+            resolve_count_bits,
             fragments_depth_bounds,
             fragments_stencil,
             boxes,
@@ -269,12 +278,12 @@ impl HybridPass {
         }
     }
 
-    /// Step 2 (classes in ColorAttachment, the map readable): classify every visible pixel;
-    /// shade those the map decides.
+    /// Step 2 (the visibility image and classes in ColorAttachment, the map readable): classify
+    /// every visible pixel; the map decides the visibility of all but the silhouette pixels.
     pub fn record_classify<'a>(&'a self, cx: &mut PassRecorder<'_, 'a>, h: &HybridLight<'a>) {
         let Some(classes) = self.classes() else { return };
         let color = [
-            ColorAttachment { image: h.color, clear: None },
+            ColorAttachment { image: h.visibility, clear: Some([0.0; 4]) },
             ColorAttachment { image: classes, clear: Some([0.0; 4]) },
         ];
         cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(DepthAttachment::keep(h.depth)) });
@@ -323,15 +332,20 @@ impl HybridPass {
         cx.rec.end_rendering();
     }
 
-    /// Step 4: silhouette pixels lit where their count is zero.
-    pub fn record_silhouettes<'a>(&'a self, cx: &mut PassRecorder<'_, 'a>, h: &HybridLight<'a>) {
+    /// Step 4 (the visibility image in ColorAttachment, the classes readable): the silhouette
+    /// pixels' visibility, 1 where their count is zero and 0 where it is not.
+    pub fn record_visibility<'a>(&'a self, cx: &mut PassRecorder<'_, 'a>, h: &HybridLight<'a>) {
         let target = self.count_target(h.mask, h.depth);
-        let color = [ColorAttachment { image: h.color, clear: None }];
+        let color = [ColorAttachment { image: h.visibility, clear: None }];
         cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(DepthAttachment::keep(target)) });
-        cx.rec.bind_pipeline(if h.mask == MaskKind::Stencil { &self.lit_count_bits } else { &self.lit });
-        cx.rec.set_stencil_reference(0);
-        cx.rec.bind_descriptor_set(h.layout, 1, h.shadow_set);
-        forward::draw_objects(cx.rec, h.layout, h.gpu, h.scene, h.light as u32, cx.log);
+        let pipelines = if h.mask == MaskKind::Stencil { &self.resolve_count_bits } else { &self.resolve };
+        for pipeline in pipelines {
+            cx.rec.bind_pipeline(pipeline);
+            cx.rec.set_stencil_reference(0);
+            cx.rec.bind_descriptor_set(h.layout, 1, h.shadow_set);
+            cx.rec.draw(3);
+            cx.log.count_draw(1);
+        }
         cx.rec.end_rendering();
     }
 
@@ -401,8 +415,8 @@ pub(crate) struct HybridLight<'a> {
     pub scene: &'a Scene,
     /// Set 1: its map through the hardware-PCF sampler, the classes image at binding 3.
     pub shadow_set: &'a DescriptorSet,
-    /// The frame's colour and depth/stencil, as attachments.
-    pub color: &'a Image,
+    /// The visibility image and the frame's depth/stencil, as attachments.
+    pub visibility: &'a Image,
     pub depth: &'a Image,
     /// Its z-fail volumes (culled casters already left out) and their vertices.
     pub volumes: &'a LightVolumes,

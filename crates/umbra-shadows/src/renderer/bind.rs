@@ -1,10 +1,12 @@
 //! Each light's descriptor sets (its maps as the lighting passes sample them), from the
-//! renderer's per-frame arena, and, with diagnostics, its readbacks, kept while they fit.
+//! renderer's per-frame arena, and, with diagnostics or `read_visibility`, its readbacks, kept
+//! while they fit.
 
 use super::lights::{LightBindings, LightFrame, LightReadbacks, LightSets};
 use super::Renderer;
 use crate::diagnostics::{ClassReadback, DiagnosticReadback};
 use crate::technique::needs;
+use crate::visibility::VisibilityReadback;
 use crate::RenderResult;
 
 impl Renderer {
@@ -63,6 +65,11 @@ impl Renderer {
             (true, _) => kept.classes = Some(ClassReadback::new(ctx, width, height, stencil)?),
             (false, _) => kept.classes = None,
         }
+        match (self.desc.read_visibility && light.may_shadow(), &kept.visibility) {
+            (true, Some(_)) => {}
+            (true, None) => kept.visibility = Some(VisibilityReadback::new(ctx, width, height)?),
+            (false, _) => kept.visibility = None,
+        }
         Ok(())
     }
 
@@ -75,6 +82,7 @@ impl Renderer {
                 depth_set: s.depth_set.and_then(|i| self.sets.get(i)),
                 silhouette_readback: r.silhouette.as_ref(),
                 class_readback: r.classes.as_ref(),
+                visibility_readback: r.visibility.as_ref(),
             })
             .collect()
     }

@@ -16,10 +16,9 @@ use crate::plan::{tally, CullReason};
 use crate::shadow_volume::build::LightVolumes;
 use crate::shadow_volume::pass::VolumeBindings;
 use crate::streams::Streams;
-use crate::technique::{needs, Lighting};
 use crate::RenderResult;
 use umbra_scene::Scene;
-use umbra_vk::{Buffer, ColorAttachment, DepthAttachment, DescriptorSet, ImageState, RenderTargets};
+use umbra_vk::{Buffer, ColorAttachment, DepthAttachment, DescriptorSet, Image, ImageState, Recorder, RenderTargets};
 
 use ImageState::{ColorAttachment as Color, DepthStencilAttachment as Depth, FragmentRead as Read};
 
@@ -193,13 +192,19 @@ impl Renderer {
             let l = light.light();
             let Some(shadow_set) = &f.bindings[l].shadow_set else { continue };
             let reads = self.light_reads(light)?;
-            // The technique seam's one dispatch of lighting passes (`crate::technique`).
-            match (needs(light.plan.technique).lighting, &light.volumes) {
-                (Lighting::Hybrid, Some(volumes)) if light.hybrid() => {
-                    queries[l].hybrid = Some(self.declare_hybrid(stage, f, light, volumes, shadow_set)?);
-                }
-                // A hybrid light without a map this frame is lit unshadowed.
-                (Lighting::Hybrid | Lighting::Forward, _) => self.declare_light(stage, f, light, shadow_set, &reads),
+            let shadowed = self.declare_visibility(stage, f, light, shadow_set, &reads, &mut queries[l])?;
+            queries[l].shadowed = shadowed;
+            self.declare_light(stage, f, light, shadowed);
+            if let (true, Some(out)) = (shadowed, f.bindings[l].visibility_readback) {
+                let (image, src) = (&self.visibility.image, ImageState::TransferSrc);
+                stage.pass(
+                    PassId::VisibilityReadback(l),
+                    &[Use::Image(image, src), Use::Readback(&out.buffer)],
+                    |cx| {
+                        cx.rec.copy_image_to_buffer(image, 0, &out.buffer);
+                        Ok(())
+                    },
+                );
             }
             self.declare_light_diagnostics(stage, f, light, &reads);
             queries[l].volume_fragments = self.declare_overdraw(stage, f, light, !overdraw);
@@ -208,6 +213,36 @@ impl Renderer {
         }
         self.declare_readback(stage, overdraw);
         Ok((queries, overdraw))
+    }
+
+    /// The technique seam's one dispatch of visibility passes (`crate::visibility`): the
+    /// hybrid's own passes, a shadow-volume light's stencil counts resolved, or a map lookup.
+    /// False when nothing shadows the light this frame (it is lit unshadowed).
+    fn declare_visibility<'a>(
+        &'a self,
+        stage: &mut Stage<'a>,
+        f: FrameInputs<'a>,
+        light: &'a LightFrame,
+        shadow_set: &'a DescriptorSet,
+        reads: &[Use<'a>],
+        queries: &mut LightQueries,
+    ) -> RenderResult<bool> {
+        match (&light.volumes, f.volumes) {
+            (Some(volumes), _) if light.hybrid() => {
+                queries.hybrid = Some(self.declare_hybrid(stage, f, light, volumes, shadow_set)?);
+                Ok(true)
+            }
+            // A hybrid light without a map this frame is shadowed by its volumes alone.
+            (Some(volumes), Some(vertices)) => {
+                self.declare_stencil_visibility(stage, f, light, volumes, vertices);
+                Ok(true)
+            }
+            _ if light.map.is_some() => {
+                self.declare_map_visibility(stage, f, light, shadow_set, reads);
+                Ok(true)
+            }
+            _ => Ok(false),
+        }
     }
 
     /// A hybrid light's own passes (`hybrid::frame`), after its map.
@@ -227,7 +262,7 @@ impl Renderer {
             gpu: f.gpu,
             scene: f.scene,
             shadow_set,
-            color: &self.color,
+            visibility: &self.visibility.image,
             depth: &self.depth,
             volumes,
             vertices: f.volumes,
@@ -251,9 +286,36 @@ impl Renderer {
         Ok(reads)
     }
 
-    /// A light lit by the forward pass: its stencil counts first when it has volumes
-    /// (`shadow_volume N`), then `light N (kind)` with the map, silhouette-map or stencil test.
-    fn declare_light<'a>(
+    /// Everitt–Kilgard: `shadow_volume N`, the stencil counts, then `visibility N (stencil)`
+    /// resolving them into the visibility image.
+    fn declare_stencil_visibility<'a>(
+        &'a self,
+        stage: &mut Stage<'a>,
+        f: FrameInputs<'a>,
+        light: &'a LightFrame,
+        volumes: &'a LightVolumes,
+        vertices: &'a Buffer,
+    ) {
+        let (l, bounds, depth) = (light.light(), light_bounds(light), &self.depth);
+        stage.pass(PassId::ShadowVolume(l), &[Use::Image(depth, Depth)], move |cx| {
+            let stencil = DepthAttachment::clearing_stencil(depth, 0);
+            cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(stencil) });
+            let b = VolumeBindings { layout: &self.layout, gpu: f.gpu, vertices };
+            self.shadow_volume.record_stencil(cx.rec, b, volumes, l as u32, bounds, cx.log);
+            cx.rec.end_rendering();
+            Ok(())
+        });
+        let image = &self.visibility.image;
+        stage.pass(PassId::StencilVisibility(l), &[Use::Image(image, Color), Use::Image(depth, Depth)], move |cx| {
+            over_surfaces(cx.rec, image, Some([0.0; 4]), depth);
+            self.visibility.record_stencil(cx.rec, &self.layout, f.gpu, f.scene, l as u32, bounds, cx.log);
+            cx.rec.end_rendering();
+            Ok(())
+        });
+    }
+
+    /// A shadow-map or silhouette-map light: `visibility N`, its map looked up at every surface.
+    fn declare_map_visibility<'a>(
         &'a self,
         stage: &mut Stage<'a>,
         f: FrameInputs<'a>,
@@ -261,28 +323,31 @@ impl Renderer {
         shadow_set: &'a DescriptorSet,
         reads: &[Use<'a>],
     ) {
-        let (l, plan) = (light.light(), &light.plan);
-        let bounds = PassBounds { scissor: plan.scissor, depth: plan.depth_bounds };
-        let volumes = light.volumes.as_ref().zip(f.volumes);
-        let depth = &self.depth;
-        if let Some((v, vertices)) = volumes {
-            stage.pass(PassId::ShadowVolume(l), &[Use::Image(depth, Depth)], move |cx| {
-                let stencil = DepthAttachment::clearing_stencil(depth, 0);
-                cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(stencil) });
-                let b = VolumeBindings { layout: &self.layout, gpu: f.gpu, vertices };
-                self.shadow_volume.record_stencil(cx.rec, b, v, l as u32, bounds, cx.log);
-                cx.rec.end_rendering();
-                Ok(())
-            });
-        }
-        let uses = [&[Use::Image(&self.color, Color), Use::Image(depth, Depth)], reads].concat();
-        stage.pass(PassId::Light(l, plan.kind), &uses, move |cx| {
-            let color = [ColorAttachment { image: &self.color, clear: None }];
-            cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(DepthAttachment::keep(depth)) });
-            // Test the stencil only after this light's own stencil pass (which cleared it).
-            let stenciled = volumes.is_some();
+        let (l, bounds, depth, image) = (light.light(), light_bounds(light), &self.depth, &self.visibility.image);
+        let uses = [&[Use::Image(image, Color), Use::Image(depth, Depth)], reads].concat();
+        stage.pass(PassId::MapVisibility(l), &uses, move |cx| {
+            over_surfaces(cx.rec, image, Some([0.0; 4]), depth);
             let (layout, light) = (&self.layout, l as u32);
-            self.forward.record_light(cx.rec, layout, f.gpu, shadow_set, f.scene, light, stenciled, bounds, cx.log);
+            self.visibility.record_map(cx.rec, layout, f.gpu, shadow_set, f.scene, light, bounds, cx.log);
+            cx.rec.end_rendering();
+            Ok(())
+        });
+    }
+
+    /// `light N (kind)`: the light's Lambert term times its visibility image (`shadowed`), or
+    /// unshadowed.
+    fn declare_light<'a>(&'a self, stage: &mut Stage<'a>, f: FrameInputs<'a>, light: &'a LightFrame, shadowed: bool) {
+        let (l, bounds, depth) = (light.light(), light_bounds(light), &self.depth);
+        let mut uses = vec![Use::Image(&self.color, Color), Use::Image(depth, Depth)];
+        if shadowed {
+            uses.push(Use::Image(&self.visibility.image, Read));
+        }
+        let set = if shadowed { &self.visibility.set } else { &self.visibility.unshadowed_set };
+        let visibility = (set, shadowed);
+        stage.pass(PassId::Light(l, light.plan.kind), &uses, move |cx| {
+            over_surfaces(cx.rec, &self.color, None, depth);
+            let (layout, light) = (&self.layout, l as u32);
+            self.forward.record_light(cx.rec, layout, f.gpu, visibility, f.scene, light, bounds, cx.log);
             cx.rec.end_rendering();
             Ok(())
         });
@@ -309,8 +374,7 @@ impl Renderer {
         uses.extend(out.stencil.as_ref().map(Use::Readback));
         uses.extend_from_slice(reads);
         stage.pass(PassId::LightDiagnostics(l), &uses, move |cx| {
-            let color = [ColorAttachment { image: class, clear: Some([0.0; 4]) }];
-            cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(DepthAttachment::keep(depth)) });
+            over_surfaces(cx.rec, class, Some([0.0; 4]), depth);
             self.forward.record_classes(cx.rec, &self.layout, f.gpu, shadow_set, f.scene, l as u32, cx.log);
             cx.rec.end_rendering();
             cx.enter(&[(class, ImageState::TransferSrc)]);
@@ -405,4 +469,16 @@ impl Renderer {
             Ok(())
         });
     }
+}
+
+/// Where a bounded light's passes may draw (its plan's scissor and depth bounds).
+fn light_bounds(light: &LightFrame) -> PassBounds {
+    PassBounds { scissor: light.plan.scissor, depth: light.plan.depth_bounds }
+}
+
+/// Begins a pass over the frame's surfaces: one colour target (`clear`ed or kept) and the
+/// frame's depth, kept, for the EQUAL test.
+fn over_surfaces<'a>(rec: &mut Recorder<'a>, image: &'a Image, clear: Option<[f32; 4]>, depth: &'a Image) {
+    let color = [ColorAttachment { image, clear }];
+    rec.begin_rendering(&RenderTargets { color: &color, depth: Some(DepthAttachment::keep(depth)) });
 }

@@ -9,6 +9,7 @@ use crate::hybrid::{HybridSettings, MaskKind};
 use crate::report::FrameReport;
 use crate::shadow_map::ShadowMapSettings;
 use crate::shadow_volume::ShadowVolumeSettings;
+use crate::visibility::VisibilityImage;
 use crate::{RenderError, RenderResult};
 use std::path::Path;
 use umbra_vk::{vk, Context, Image, ImageDesc};
@@ -39,6 +40,10 @@ pub struct RendererDesc {
     /// Render the G-buffer ([`Frame::gbuffer`]): world position and geometric normal per
     /// pixel, for the exact reference. One diagnostic pass. Off by default.
     pub gbuffer: bool,
+    /// Read every shadowed light's visibility image back ([`Frame::visibility`]): what its
+    /// technique decided per pixel, the input of the accuracy measurements. One copy per
+    /// light (8 bytes a pixel), reported as a diagnostic pass. Off by default.
+    pub read_visibility: bool,
     /// Plan each frame so that nothing that cannot change the image is recorded (lights out of
     /// view, casters whose shadows cannot be seen, scissor and depth bounds of bounded lights;
     /// see [`crate::plan`]). On by default; off records every pass of every light over every
@@ -64,6 +69,7 @@ impl RendererDesc {
             hybrid: HybridSettings::default(),
             diagnostics: false,
             gbuffer: false,
+            read_visibility: false,
             cull: true,
             shadow_map_budget_bytes: DEFAULT_SHADOW_MAP_BUDGET,
         }
@@ -89,6 +95,9 @@ pub struct Frame {
     pub diagnostics: Vec<LightDiagnostics>,
     /// What every pixel shows (with `RendererDesc::gbuffer`).
     pub gbuffer: Option<GBuffer>,
+    /// Per light whose technique wrote one this frame, its visibility image (with
+    /// `RendererDesc::read_visibility`), in light order.
+    pub visibility: Vec<VisibilityImage>,
 }
 
 impl Frame {
@@ -101,6 +110,17 @@ impl Frame {
         let mut p = [0; 4];
         p.copy_from_slice(&self.rgba[i..i + 4]);
         p
+    }
+
+    /// Light `light`'s shadow mask (per pixel `Some(true)` shadowed, `Some(false)` lit, `None`
+    /// not in question): from its visibility image ([`VisibilityImage::shadow_mask`]), or, for a
+    /// light nothing shadowed this frame, from its classification. `None` without either (render
+    /// with `read_visibility` and `diagnostics`).
+    pub fn shadow_mask(&self, light: usize) -> Option<Vec<Option<bool>>> {
+        match self.visibility.iter().find(|v| v.light == light) {
+            Some(v) => Some(v.shadow_mask()),
+            None => self.diagnostics.iter().find(|d| d.light == light).map(LightDiagnostics::shadow_mask),
+        }
     }
 
     /// Writes the pixels as a PNG.
@@ -134,7 +154,8 @@ pub(crate) fn depth_desc(format: vk::Format, width: u32, height: u32) -> ImageDe
 }
 
 /// Checks `desc`'s size against every limit of the frame-sized images the renderer may create
-/// (colour and depth targets, the hybrid's classes and masked depth, the G-buffer): a typed
+/// (colour and depth targets, the hybrid's classes and masked depth, the visibility image, the
+/// G-buffer): a typed
 /// [`RenderError::InvalidSize`] naming the first limit broken, before anything is created.
 pub(crate) fn check_frame_size(
     ctx: &Context,
@@ -156,6 +177,7 @@ pub(crate) fn check_frame_size(
         ("colour target", frame_target_desc(width, height)),
         ("depth/stencil target", depth_desc(depth_format, width, height)),
         ("hybrid silhouette classes", classes),
+        ("visibility image", crate::visibility::image_desc(width, height)),
     ];
     if mask == MaskKind::DepthBounds {
         images.push(("hybrid masked depth", masked_depth));

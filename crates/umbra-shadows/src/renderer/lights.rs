@@ -10,6 +10,7 @@ use crate::shadow_map::frustum::LightViews;
 use crate::shadow_volume::build::LightVolumes;
 use crate::silhouette_map::edges::LightEdges;
 use crate::technique::{needs, Lighting};
+use crate::visibility::VisibilityReadback;
 use glam::Mat4;
 use umbra_scene::{Aabb, Camera};
 use umbra_vk::DescriptorSet;
@@ -64,6 +65,12 @@ impl LightFrame {
     pub fn hybrid(&self) -> bool {
         needs(self.plan.technique).lighting == Lighting::Hybrid && self.map.is_some() && self.volumes.is_some()
     }
+
+    /// Whether its technique may write its visibility image this frame: it is recorded and has
+    /// a map or volumes (with no volume triangle at all it is lit unshadowed).
+    pub fn may_shadow(&self) -> bool {
+        self.plan.recorded && (self.map.is_some() || self.volumes.is_some())
+    }
 }
 
 /// One light's descriptor sets this frame, as indices into the renderer's arena.
@@ -80,6 +87,8 @@ pub(super) struct LightReadbacks {
     pub silhouette: Option<DiagnosticReadback>,
     /// Its classes (and stencil) diagnostics (shadow-map, shadow-volume and hybrid lights).
     pub classes: Option<ClassReadback>,
+    /// Its visibility image (shadowed lights, with `read_visibility`).
+    pub visibility: Option<VisibilityReadback>,
 }
 
 /// One light's descriptor sets and readbacks this frame.
@@ -93,6 +102,8 @@ pub(super) struct LightBindings<'a> {
     pub silhouette_readback: Option<&'a DiagnosticReadback>,
     /// Its classes (and stencil) diagnostics.
     pub class_readback: Option<&'a ClassReadback>,
+    /// Its visibility image's copy.
+    pub visibility_readback: Option<&'a VisibilityReadback>,
 }
 
 /// The occlusion queries of one light, reserved when its passes were declared.
@@ -102,4 +113,6 @@ pub(super) struct LightQueries {
     pub hybrid: Option<HybridQueries>,
     /// Its volumes' fragments (with `overdraw`).
     pub volume_fragments: Option<QueryId>,
+    /// Whether its technique wrote its visibility image (else it was lit unshadowed).
+    pub shadowed: bool,
 }

@@ -29,6 +29,7 @@ use crate::shadow_volume::pass::ShadowVolumePass;
 use crate::shadow_volume::FarPlane;
 use crate::silhouette_map::pass::SilhouetteMapPass;
 use crate::streams::Streams;
+use crate::visibility::{self, VisibilityPass};
 use crate::RenderResult;
 use desc::{check_frame_size, depth_desc, frame_target};
 use std::time::Instant;
@@ -50,6 +51,8 @@ pub struct Renderer {
     shadow_volume: ShadowVolumePass,
     silhouette_map: SilhouetteMapPass,
     hybrid: HybridPass,
+    /// The visibility image every shadowed light's technique writes and its lighting reads.
+    visibility: VisibilityPass,
     /// The computation mask of hybrid lights (`desc.hybrid.mask`, or the device's best).
     mask: MaskKind,
     /// Classification and silhouette-point targets (with `diagnostics`).
@@ -95,8 +98,10 @@ impl Renderer {
             Buffer::new(ctx, "colour readback", BufferDesc::readback(4 * desc.width as u64 * desc.height as u64))?;
         let scene_set_layout = gpu_scene::scene_set_layout(ctx)?;
         let shadow_set_layout = pass::shadow_set_layout(ctx)?;
+        let visibility_set_layout = visibility::set_layout(ctx)?;
         let push = std::mem::size_of::<gpu_scene::DrawPush>() as u32;
-        let layout = PipelineLayout::new(ctx, "scene layout", &[&scene_set_layout, &shadow_set_layout], push)?;
+        let sets = [&scene_set_layout, &shadow_set_layout, &visibility_set_layout];
+        let layout = PipelineLayout::new(ctx, "scene layout", &sets, push)?;
         // Bounded lights' depth bounds need the test in their pipelines.
         let bounds = desc.cull && caps.depth_bounds;
         let forward =
@@ -108,7 +113,10 @@ impl Renderer {
         let shadow_volume = ShadowVolumePass::new(ctx, &layout, depth_format, &desc.shadow_volume, bounds)?;
         let silhouette_map = SilhouetteMapPass::new(ctx, &layout, COLOR_FORMAT, depth_format, &desc.shadow_map)?;
         let clamp = desc.shadow_volume.far_plane == FarPlane::DepthClamp;
-        let hybrid = HybridPass::new(ctx, &layout, COLOR_FORMAT, depth_format, &desc.shadow_map, clamp)?;
+        let hybrid = HybridPass::new(ctx, &layout, depth_format, &desc.shadow_map, clamp)?;
+        let (width, height, shadow) = (desc.width, desc.height, &desc.shadow_map);
+        let visibility =
+            VisibilityPass::new(ctx, &layout, visibility_set_layout, depth_format, shadow, width, height, bounds)?;
         let diagnostic_targets = if desc.diagnostics {
             Some(DiagnosticTargets {
                 classification: frame_target(ctx, "diagnostics: classification", desc.width, desc.height)?,
@@ -147,6 +155,7 @@ impl Renderer {
             shadow_volume,
             silhouette_map,
             hybrid,
+            visibility,
             mask,
             diagnostic_targets,
             meshes: MeshCache::default(),

@@ -36,6 +36,7 @@ impl Renderer {
         let samples = |q| last.map_or(0, |s| s.samples(q));
         let passes: Vec<PassReport> = run.stages.iter().flat_map(|s| s.passes.iter().cloned()).collect();
         let mut diagnostics = Vec::new();
+        let mut visibility = Vec::new();
         let mut plans = Vec::with_capacity(lights.len());
         for light in &lights {
             let mut plan = light.plan.clone();
@@ -51,12 +52,16 @@ impl Renderer {
             if let Some(d) = self.read_diagnostics(light, &bindings[light.light()], &mut plan)? {
                 diagnostics.push(d);
             }
+            if let (true, Some(out)) = (queries.shadowed, bindings[light.light()].visibility_readback) {
+                visibility.push(out.read(light.light(), self.desc.width, self.desc.height)?);
+            }
             plan.passes = passes.iter().filter(|p| p.light == Some(plan.light)).map(|p| p.name.clone()).collect();
             plans.push(plan);
         }
         let gbuffer = self.gbuffer.as_ref().map(GBufferPass::read).transpose()?;
         let report = self.report(scene, adjacency, plans, passes);
-        Ok(Frame { width: self.desc.width, height: self.desc.height, rgba, report, overdraw, diagnostics, gbuffer })
+        let (width, height) = (self.desc.width, self.desc.height);
+        Ok(Frame { width, height, rgba, report, overdraw, diagnostics, gbuffer, visibility })
     }
 
     /// A hybrid light's figures: `kept` samples passed its mask pass, `masked` volume
