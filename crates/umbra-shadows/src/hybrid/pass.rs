@@ -70,6 +70,34 @@ fn test_only(compare: vk::CompareOp, compare_mask: u32) -> StencilFace {
     StencilFace { compare, compare_mask, write_mask: 0, ..StencilFace::KEEP }
 }
 
+/// Step 4's two full-screen pipelines for a count in the stencil bits `count_bits`: silhouette
+/// pixels get visibility 1 where the count is 0, and 0 where it is not. The stencil test alone
+/// (no depth test or write): the frame's depth must reach the lighting pass untouched.
+fn resolve_pipelines(
+    ctx: &Context,
+    layout: &PipelineLayout,
+    depth_format: vk::Format,
+    count_bits: u32,
+) -> RenderResult<[GraphicsPipeline; 2]> {
+    let target = [ColorTarget::opaque(VISIBILITY_FORMAT)];
+    let pipeline = |lit: bool| -> RenderResult<GraphicsPipeline> {
+        let (compare, op) = if lit { (vk::CompareOp::EQUAL, "==") } else { (vk::CompareOp::NOT_EQUAL, "!=") };
+        let name = format!("hybrid visibility (stencil & {count_bits:#x} {op} 0)");
+        let spec = [(0, 0), (1, u32::from(lit))];
+        let mut desc = GraphicsPipelineDesc::new(&name, umbra_shaders::fullscreen::TRIANGLE_VERT);
+        desc.fragment = Some(umbra_shaders::hybrid::RESOLVE_FRAG);
+        desc.specialization = &spec;
+        desc.cull = vk::CullModeFlags::NONE;
+        desc.depth = DepthState::NONE;
+        desc.depth_format = depth_format;
+        desc.color_targets = &target;
+        let face = test_only(compare, count_bits);
+        desc.stencil = Some((face, face));
+        Ok(GraphicsPipeline::new(ctx, layout, &desc)?)
+    };
+    Ok([pipeline(true)?, pipeline(false)?])
+}
+
 /// `desc` with the depth-bounds test on, named `name`, where the device has `depthBounds`.
 fn with_depth_bounds<'d>(
     ctx: &Context,
@@ -158,29 +186,9 @@ impl HybridPass {
         desc.stencil = Some((bit, bit));
         let fragments_stencil = GraphicsPipeline::new(ctx, layout, &desc)?;
 
-        // Step 4: the silhouette pixels' visibility, 1 where the count is zero, 0 elsewhere.
-        let target = [ColorTarget::opaque(VISIBILITY_FORMAT)];
-        let resolve_pipeline = |name: &str, lit: bool, count_bits: u32| {
-            let compare = if lit { vk::CompareOp::EQUAL } else { vk::CompareOp::NOT_EQUAL };
-            let name = format!("hybrid visibility ({name})");
-            let spec = [(0, 0), (1, u32::from(lit))];
-            let mut desc = GraphicsPipelineDesc::new(&name, umbra_shaders::fullscreen::TRIANGLE_VERT);
-            desc.fragment = Some(umbra_shaders::hybrid::RESOLVE_FRAG);
-            desc.specialization = &spec;
-            desc.cull = vk::CullModeFlags::NONE;
-            // The stencil test alone: the frame's depth must reach the lighting pass untouched.
-            desc.depth = DepthState::NONE;
-            desc.depth_format = depth_format;
-            desc.color_targets = &target;
-            let face = test_only(compare, count_bits);
-            desc.stencil = Some((face, face));
-            GraphicsPipeline::new(ctx, layout, &desc)
-        };
-        let resolve = [resolve_pipeline("stencil == 0", true, 0xff)?, resolve_pipeline("stencil != 0", false, 0xff)?];
-        let resolve_count_bits = [
-            resolve_pipeline("stencil & 0x7f == 0", true, COUNT_BITS)?,
-            resolve_pipeline("stencil & 0x7f != 0", false, COUNT_BITS)?,
-        ];
+        // Step 4: the silhouette pixels' visibility, through the whole stencil or its count bits.
+        let resolve = resolve_pipelines(ctx, layout, depth_format, 0xff)?;
+        let resolve_count_bits = resolve_pipelines(ctx, layout, depth_format, COUNT_BITS)?;
 
         // §6.3: boxes from the light against its map.
         let mut desc = GraphicsPipelineDesc::new("hybrid blocker boxes", umbra_shaders::hybrid::BOX_VERT);
