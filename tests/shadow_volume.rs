@@ -401,28 +401,40 @@ fn nonzero_after_counting(ctx: &Context, triangles: &[Vec4], w: u32, h: u32) -> 
     probe.pixels()
 }
 
+/// The closed-mesh scenes the watertightness tests use: cubes, the cow, the fandisk.
+fn watertight_scenes() -> [Scene; 3] {
+    [umbra::scene::load("cubes").unwrap(), asset_scene("spot.glb"), asset_scene("fandisk.glb")]
+}
+
+/// Every caster's volume in `scene`, extruded on the CPU (the vertex shader's formula) and seen
+/// by the scene's camera with P_inf: clip-space triangles.
+fn volume_clip_triangles(scene: &Scene, (w, h): (u32, u32)) -> Vec<Vec4> {
+    let camera = Camera { far: None, ..scene.camera };
+    let vp = camera.view_proj(w as f32 / h as f32);
+    let light = scene.lights[0].position;
+    let mut clip = Vec::new();
+    for o in scene.objects.iter().filter(|o| o.casts_shadows) {
+        let adj = umbra::scene::Adjacency::build(&scene.meshes[o.mesh]);
+        let local = o.transform.inverse() * light;
+        let volume = umbra::scene::Volume::build(&adj, local);
+        for v in volume.vertices(&adj, true) {
+            let world = o.transform * v.truncate().extend(1.0);
+            let world = if v.w == 0.0 { umbra::scene::extrude(world.truncate(), light) } else { world };
+            clip.push(vp * world);
+        }
+    }
+    clip
+}
+
 #[test]
 fn closed_volumes_rasterize_watertight() {
-    // The volumes of the closed-mesh scenes, extruded on the CPU (the vertex shader's formula),
-    // seen by each scene's camera with P_inf: every pixel must count 0.
-    let scenes = [umbra::scene::load("cubes").unwrap(), asset_scene("spot.glb"), asset_scene("fandisk.glb")];
+    // Every pixel must count 0.
     common::with_context(|ctx| {
         let (w, h) = common::SIZE;
-        for scene in &scenes {
+        for scene in &watertight_scenes() {
             let camera = Camera { far: None, ..scene.camera };
             let vp = camera.view_proj(w as f32 / h as f32);
-            let light = scene.lights[0].position;
-            let mut clip = Vec::new();
-            for o in scene.objects.iter().filter(|o| o.casts_shadows) {
-                let adj = umbra::scene::Adjacency::build(&scene.meshes[o.mesh]);
-                let local = o.transform.inverse() * light;
-                let volume = umbra::scene::Volume::build(&adj, local);
-                for v in volume.vertices(&adj, true) {
-                    let world = o.transform * v.truncate().extend(1.0);
-                    let world = if v.w == 0.0 { umbra::scene::extrude(world.truncate(), light) } else { world };
-                    clip.push(vp * world);
-                }
-            }
+            let clip = volume_clip_triangles(scene, (w, h));
             let nonzero = nonzero_after_counting(ctx, &clip, w, h) as usize;
             println!("{}: {} volume triangles, {nonzero} pixels with a nonzero count", scene.name, clip.len() / 3);
             // The casters' own closed meshes (small triangles in view, nothing to clip): the
@@ -445,6 +457,117 @@ fn closed_volumes_rasterize_watertight() {
                 println!("  KNOWN SWIFTSHADER ISSUE: closed geometry does not rasterize watertight here");
             } else {
                 assert_eq!(nonzero, 0, "{}: the closed volumes must rasterize watertight", scene.name);
+            }
+        }
+    });
+}
+
+/// Per triangle of `triangles`, how many samples of pixel (x, y) it covers front-facing and
+/// back-facing: an occlusion query per triangle and face, under a one-pixel scissor.
+fn coverage_at(ctx: &Context, triangles: &[Vec4], (w, h): (u32, u32), (x, y): (u32, u32)) -> Vec<(u64, u64)> {
+    use umbra::vk::{
+        vk, Buffer, DepthState, GraphicsPipeline, GraphicsPipelineDesc, PipelineLayout, QueryKind, QueryPool,
+        VertexAttribute,
+    };
+    let target = common::depth_target(ctx, "coverage", w, h, vk::ImageUsageFlags::empty());
+    let layout = PipelineLayout::new(ctx, "empty", &[], 0).unwrap();
+    let attrs = [VertexAttribute { location: 0, format: vk::Format::R32G32B32A32_SFLOAT, offset: 0 }];
+    let mut desc = GraphicsPipelineDesc::new("front faces", umbra::shaders::debug::CLIP_PASSTHROUGH_VERT);
+    desc.vertex_stride = 16;
+    desc.vertex_attributes = &attrs;
+    desc.cull = vk::CullModeFlags::BACK;
+    // A depth test that always passes: SwiftShader counts no samples without one.
+    desc.depth = DepthState { test: true, write: false, compare: vk::CompareOp::ALWAYS, ..DepthState::NONE };
+    desc.depth_format = ctx.capabilities().depth_stencil_format;
+    let front = GraphicsPipeline::new(ctx, &layout, &desc).unwrap();
+    desc.name = "back faces";
+    desc.cull = vk::CullModeFlags::FRONT;
+    let back = GraphicsPipeline::new(ctx, &layout, &desc).unwrap();
+    let n = triangles.len() as u32 / 3;
+    let pool = QueryPool::new(ctx, "coverage", QueryKind::Occlusion, 2 * n).unwrap();
+    let bytes: &[u8] = umbra::vk::bytemuck::cast_slice(triangles);
+    let vertices = Buffer::with_data(ctx, "clip triangles", vk::BufferUsageFlags::VERTEX_BUFFER, bytes).unwrap();
+    let mut rec = ctx.begin_commands("coverage").unwrap();
+    rec.reset_queries(&pool);
+    common::begin_depth_pass(&mut rec, &target);
+    rec.bind_vertex_buffer(&vertices);
+    for (face, pipeline) in [&front, &back].into_iter().enumerate() {
+        rec.bind_pipeline(pipeline);
+        rec.set_scissor([x, y, 1, 1]);
+        for t in 0..n {
+            rec.begin_query(&pool, 2 * t + face as u32);
+            rec.draw_range(3, 3 * t);
+            rec.end_query(&pool, 2 * t + face as u32);
+        }
+    }
+    rec.end_rendering();
+    ctx.submit_and_wait(rec).unwrap();
+    let r = pool.results().unwrap();
+    (0..n as usize).map(|t| (r[2 * t], r[2 * t + 1])).collect()
+}
+
+fn is_swiftshader(ctx: &Context) -> bool {
+    ctx.capabilities().device_name.to_lowercase().contains("swiftshader")
+}
+
+#[test]
+fn swiftshaders_clipper_leaves_a_hole_that_clipping_inside_the_view_closes() {
+    // The minimal reproduction (#22): three side triangles of the cubes scene's volumes at
+    // 256x192, literally. The pixel (207, 161) lies inside the first, a sliver 0.04 px wide
+    // there, between its long edges shared with the other two; the far vertex (shared) lies
+    // below and right of the view, so the driver clips all three against two planes.
+    let a = Vec4::new(9.284529, 0.4366727, 17.502316, 17.552317);
+    let b = Vec4::new(9.060701, 0.044448853, 16.995693, 17.045694);
+    let far = Vec4::new(3.1552231, -22.80692, 0.3432004, 0.3432004);
+    let left = Vec4::new(3.3790512, -22.414696, 0.84982216, 0.84982216);
+    let right = Vec4::new(2.9190092, -21.699677, 0.19714546, 0.19714546);
+    let three = [a, b, far, a, far, left, b, right, far];
+    let pixel = (207, 161);
+    common::with_context(|ctx| {
+        let covered = |tris: &[Vec4]| -> (u64, u64) {
+            coverage_at(ctx, tris, common::SIZE, pixel).iter().fold((0, 0), |s, c| (s.0 + c.0, s.1 + c.1))
+        };
+        let as_drawn = covered(&three);
+        let clipped = covered(&common::clip::clip_inside_view(&three, 0.9999));
+        println!("pixel {pixel:?}: (front, back) samples as drawn {as_drawn:?}, clipped inside the view {clipped:?}");
+        // Clipped on the host to just inside the view, the driver clips nothing: exactly one
+        // front-facing triangle covers the pixel, on every driver.
+        assert_eq!(clipped, (1, 0));
+        if is_swiftshader(ctx) {
+            // SwiftShader's own clipping of the three leaves the pixel to none of them: a hole
+            // in a closed surface, which a stencil count reads as a shadow edge.
+            println!("KNOWN SWIFTSHADER ISSUE: its frustum clipper leaves a hole between shared edges");
+            assert_eq!(as_drawn, (0, 0), "SwiftShader covers the pixel now: the workaround may be unnecessary");
+        } else {
+            assert_eq!(as_drawn, (1, 0));
+        }
+    });
+}
+
+#[test]
+fn volumes_clipped_inside_the_view_rasterize_watertight_on_every_driver() {
+    // The formulation #22 asks for, measured at the Vulkan level: the volumes of the watertight
+    // scenes clipped on the host to 0 <= z, |x|, |y| <= g·w. With g < 1 the driver clips
+    // nothing and every pixel counts 0 on both drivers; with g > 1 (the driver clips what is
+    // left) SwiftShader miscounts again, more than unclipped.
+    common::with_context(|ctx| {
+        let (w, h) = common::SIZE;
+        for scene in &watertight_scenes() {
+            let clip = volume_clip_triangles(scene, (w, h));
+            for g in [0.9999, 1.01, 2.0] {
+                let clipped = common::clip::clip_inside_view(&clip, g);
+                let nonzero = nonzero_after_counting(ctx, &clipped, w, h);
+                println!(
+                    "{} g = {g}: {} -> {} triangles, {nonzero} pixels nonzero",
+                    scene.name,
+                    clip.len() / 3,
+                    clipped.len() / 3
+                );
+                if g < 1.0 || !is_swiftshader(ctx) {
+                    assert_eq!(nonzero, 0, "{} clipped to |x|, |y| <= {g} w", scene.name);
+                } else if nonzero > 0 {
+                    println!("  KNOWN SWIFTSHADER ISSUE: its clipper is not watertight");
+                }
             }
         }
     });

@@ -2,6 +2,7 @@
 //! check that the validation layer stayed silent.
 #![allow(dead_code)]
 
+pub mod clip;
 pub mod raycast;
 
 use std::path::PathBuf;
