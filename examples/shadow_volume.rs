@@ -71,6 +71,7 @@ fn main() -> anyhow::Result<()> {
         mode: args.mode,
         far_plane: if args.depth_clamp { FarPlane::DepthClamp } else { FarPlane::Infinite },
         overdraw: args.show_volumes,
+        ..ShadowVolumeSettings::default()
     };
     if args.common.window {
         return common::window::run(&args.common, "shadow_volume", scene, desc);

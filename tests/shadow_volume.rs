@@ -62,7 +62,7 @@ impl Reference {
 
 fn render(ctx: &Context, scene: &Scene, mode: VolumeMode, far_plane: FarPlane) -> (Frame, Frame) {
     let mut desc = RendererDesc::new(common::SIZE.0, common::SIZE.1);
-    desc.shadow_volume = ShadowVolumeSettings { mode, far_plane, overdraw: false };
+    desc.shadow_volume = ShadowVolumeSettings { mode, far_plane, ..ShadowVolumeSettings::default() };
     let mut r = Renderer::new(ctx, desc).unwrap();
     let mut s = scene.clone();
     for l in &mut s.lights {
@@ -620,5 +620,38 @@ fn an_empty_scene_renders_its_background() {
         let bg = (s.background * 255.0).to_array().map(|v| v.round() as u8);
         assert!(frame.rgba.chunks_exact(4).all(|p| p[..3].iter().zip(bg).all(|(a, b)| a.abs_diff(b) <= 1)));
         assert_eq!(frame.report.lights[0].skipped_because.as_deref(), Some("no objects to light"));
+    });
+}
+
+#[test]
+fn host_clipping_changes_nothing_where_the_driver_clips_watertight() {
+    // `HostClip::Always` against `Never` on the watertight scenes (z-fail, P_inf): on a driver
+    // whose clipping is watertight the two give the same image, pixel for pixel, so the
+    // workaround costs only host time there; on SwiftShader (`Auto` = `Always`) it changes the
+    // pixels its clipper got wrong.
+    common::with_context(|ctx| {
+        for scene in watertight_scenes() {
+            let mut scene = scene;
+            for l in &mut scene.lights {
+                l.technique = Technique::ShadowVolume;
+            }
+            let frames: Vec<Frame> = [umbra::shadows::HostClip::Never, umbra::shadows::HostClip::Always]
+                .into_iter()
+                .map(|host_clip| {
+                    let mut desc = RendererDesc::new(common::SIZE.0, common::SIZE.1);
+                    desc.shadow_volume =
+                        ShadowVolumeSettings { mode: VolumeMode::ZFail, host_clip, ..Default::default() };
+                    Renderer::new(ctx, desc).unwrap().render(&scene).unwrap()
+                })
+                .collect();
+            let differ = frames[0].rgba.chunks(4).zip(frames[1].rgba.chunks(4)).filter(|(a, b)| a != b).count();
+            let clipped =
+                frames[1].report.lights.iter().filter_map(|l| l.shadow_volume.as_ref()).all(|v| v.host_clipped);
+            println!("{}: {differ} pixels differ between host clipping off and on", scene.name);
+            assert!(clipped, "{}: the report says whether the volumes were clipped", scene.name);
+            if ctx.capabilities().watertight_clipping {
+                assert_eq!(differ, 0, "{}", scene.name);
+            }
+        }
     });
 }

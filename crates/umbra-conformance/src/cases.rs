@@ -103,8 +103,8 @@ const TWIGS: Expect = Expect::Documented {
 /// Case 16, shadow volumes and the hybrid: 729 twig volumes.
 const TWIG_VOLUMES: Expect = Expect::Documented {
     min: 0.0,
-    max: 0.005,
-    why: "729 overlapping twig volumes: lavapipe misses at most 2 of 19 142 pixels (sub-pixel twigs); SwiftShader, whose z-fail is not watertight on long clipped volume triangles, misses 67 (0.35 %)",
+    max: 0.0005,
+    why: "729 overlapping twig volumes: lavapipe misses at most 2 of 19 142 pixels (sub-pixel twigs); SwiftShader, its volumes clipped on the host (its own clipper is not watertight: 67 missed, 0.35 %), misses 5 (0.026 %)",
 };
 
 /// Case 14, silhouette maps: the ball's terminator at grazing incidence.

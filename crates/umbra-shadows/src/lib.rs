@@ -45,6 +45,6 @@ pub use plan::{
 pub use renderer::{Frame, Renderer, RendererDesc, COLOR_FORMAT};
 pub use report::{FrameReport, MeshTopology, SceneSummary, TopologySource, VolumeConstruction};
 pub use shadow_map::{DepthBias, ShadowFilter, ShadowMapSettings};
-pub use shadow_volume::{FarPlane, ShadowVolumeSettings, VolumeMode};
+pub use shadow_volume::{FarPlane, HostClip, ShadowVolumeSettings, VolumeMode};
 pub use timing::PassReport;
 pub use visibility::{VisibilityImage, VISIBILITY_FORMAT};

@@ -229,9 +229,14 @@ pub struct ShadowVolumeReport {
     pub zfail_casters: usize,
     /// Silhouette edges extruded (with multiplicity).
     pub silhouette_edges: usize,
-    /// Volume triangles drawn (sides, plus caps for z-fail casters).
+    /// Volume triangles drawn (sides, plus caps for z-fail casters; after clipping, when
+    /// `host_clipped`).
     pub volume_triangles: usize,
-    /// CPU time to build every caster's volume (facing, silhouettes, caps).
+    /// Whether the volumes were clipped to the view on the host before they were drawn
+    /// (`ShadowVolumeSettings::host_clip`; on drivers whose clipping is not watertight).
+    pub host_clipped: bool,
+    /// CPU time to build every caster's volume (facing, silhouettes, caps) and, when
+    /// `host_clipped`, to clip them.
     pub cpu_build_ms: f64,
     /// Rasterized volume fragments (from the overdraw pass's occlusion query), when the
     /// renderer was built with `overdraw`.

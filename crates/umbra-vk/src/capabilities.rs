@@ -82,6 +82,12 @@ pub struct Capabilities {
     /// `subPixelPrecisionBits`: vertices are snapped to 1/2^bits of a pixel before
     /// rasterization (silhouette maps snap their edges the same way).
     pub sub_pixel_precision_bits: u32,
+    /// Whether the driver's clipping against the view's x and y planes keeps closed meshes
+    /// watertight (two triangles sharing an edge cover each pixel along it once). False on
+    /// SwiftShader, measured: `tests/shadow_volume.rs`
+    /// (`swiftshaders_clipper_leaves_a_hole_that_clipping_inside_the_view_closes`); shadow volumes
+    /// are then clipped on the host (`umbra_shadows::HostClip`).
+    pub watertight_clipping: bool,
 }
 
 fn ser_format<S: serde::Serializer>(f: &vk::Format, s: S) -> Result<S::Ok, S::Error> {
@@ -128,6 +134,7 @@ impl Capabilities {
                 vk::api_version_patch(v)
             ),
             depth_bounds: p.enabled.depth_bounds == vk::TRUE,
+            watertight_clipping: p.driver.driver_id != vk::DriverId::GOOGLE_SWIFTSHADER,
             depth_clamp: p.enabled.depth_clamp == vk::TRUE,
             depth_bias_clamp: p.enabled.depth_bias_clamp == vk::TRUE,
             pipeline_statistics: p.enabled.pipeline_statistics_query == vk::TRUE,

@@ -123,6 +123,7 @@ impl HybridPass {
         depth_format: vk::Format,
         shadow: &ShadowMapSettings,
         clamp: bool,
+        input: volume_pass::VolumeInput,
     ) -> RenderResult<Self> {
         let caps = ctx.capabilities();
         // Step 2: one hardware-PCF fetch, whatever filter plain shadow maps use.
@@ -159,7 +160,7 @@ impl HybridPass {
         let mask_none = GraphicsPipeline::new(ctx, layout, &desc)?;
 
         // Step 3: z-fail volumes, masked.
-        let mut desc = volume_pass::zfail_desc(depth_format, clamp);
+        let mut desc = volume_pass::zfail_desc(depth_format, clamp, input);
         let volumes_depth_bounds =
             with_depth_bounds(ctx, layout, desc, "hybrid volumes (depth-bounds mask)", caps.depth_bounds)?;
         desc.name = "hybrid volumes (stencil mask)";

@@ -25,7 +25,7 @@ use crate::hybrid::pass::HybridPass;
 use crate::hybrid::MaskKind;
 use crate::mesh_cache::MeshCache;
 use crate::shadow_map::pass::{self, ShadowMapPass};
-use crate::shadow_volume::pass::ShadowVolumePass;
+use crate::shadow_volume::pass::{ShadowVolumePass, VolumeInput};
 use crate::shadow_volume::FarPlane;
 use crate::silhouette_map::pass::SilhouetteMapPass;
 use crate::streams::Streams;
@@ -53,6 +53,8 @@ pub struct Renderer {
     hybrid: HybridPass,
     /// The visibility image every shadowed light's technique writes and its lighting reads.
     visibility: VisibilityPass,
+    /// How volume vertices reach the GPU: as built, or clipped to the view on the host.
+    volume_input: VolumeInput,
     /// The computation mask of hybrid lights (`desc.hybrid.mask`, or the device's best).
     mask: MaskKind,
     /// Classification and silhouette-point targets (with `diagnostics`).
@@ -110,10 +112,15 @@ impl Renderer {
         if desc.shadow_volume.far_plane == FarPlane::DepthClamp && !caps.depth_clamp {
             return Err(ctx.unsupported("shadow volumes with FarPlane::DepthClamp (depthClamp)").into());
         }
-        let shadow_volume = ShadowVolumePass::new(ctx, &layout, depth_format, &desc.shadow_volume, bounds)?;
+        let volume_input = match desc.shadow_volume.host_clip.applies(caps.watertight_clipping) {
+            true => VolumeInput::HostClipped,
+            false => VolumeInput::Built,
+        };
+        let shadow_volume =
+            ShadowVolumePass::new(ctx, &layout, depth_format, &desc.shadow_volume, bounds, volume_input)?;
         let silhouette_map = SilhouetteMapPass::new(ctx, &layout, COLOR_FORMAT, depth_format, &desc.shadow_map)?;
         let clamp = desc.shadow_volume.far_plane == FarPlane::DepthClamp;
-        let hybrid = HybridPass::new(ctx, &layout, depth_format, &desc.shadow_map, clamp)?;
+        let hybrid = HybridPass::new(ctx, &layout, depth_format, &desc.shadow_map, clamp, volume_input)?;
         let (width, height, shadow) = (desc.width, desc.height, &desc.shadow_map);
         let visibility =
             VisibilityPass::new(ctx, &layout, visibility_set_layout, depth_format, shadow, width, height, bounds)?;
@@ -156,6 +163,7 @@ impl Renderer {
             silhouette_map,
             hybrid,
             visibility,
+            volume_input,
             mask,
             diagnostic_targets,
             meshes: MeshCache::default(),

@@ -13,6 +13,8 @@ use crate::plan::{plan_frame, tally, CullReason, PlanInput, ShadowMapReport, Sil
 use crate::shadow_map::frustum::{self, LightViews, MapKind};
 use crate::shadow_map::DepthBias;
 use crate::shadow_volume::build::{self as volumes};
+use crate::shadow_volume::clip;
+use crate::shadow_volume::pass::VolumeInput;
 use crate::shadow_volume::FarPlane;
 use crate::silhouette_map::edges;
 use crate::streams::Streams;
@@ -216,7 +218,22 @@ impl Renderer {
             );
             light.volumes = Some(v);
         }
-        streams.volumes.fill(&self.ctx, &vertices)?;
+        if self.volume_input == VolumeInput::Built {
+            streams.volumes.fill(&self.ctx, &vertices)?;
+            return Ok(());
+        }
+        // Drivers whose clipping is not watertight: every light's volumes cut to the view here.
+        let mut clipped = Vec::new();
+        for light in lights.iter_mut() {
+            let position = scene.lights[light.light()].position;
+            if let Some(v) = light.volumes.as_mut() {
+                let started = std::time::Instant::now();
+                clip::clip_light(scene, position, view.view_proj, &vertices, &mut v.casters, &mut clipped);
+                v.cpu_ms += started.elapsed().as_secs_f64() * 1e3;
+                v.host_clipped = true;
+            }
+        }
+        streams.volumes.fill(&self.ctx, &clipped)?;
         Ok(())
     }
 

@@ -30,6 +30,8 @@ pub(crate) struct CasterVolume {
 pub(crate) struct LightVolumes {
     pub casters: Vec<CasterVolume>,
     pub cpu_ms: f64,
+    /// The casters' ranges are in the host-clipped vertices (`clip.rs`).
+    pub host_clipped: bool,
 }
 
 impl LightVolumes {
@@ -42,6 +44,7 @@ impl LightVolumes {
             zfail_casters: self.casters.iter().filter(|c| c.counting == Counting::ZFail).count(),
             silhouette_edges: self.casters.iter().map(|c| c.stats.silhouette_edges).sum(),
             volume_triangles: self.casters.iter().map(|c| c.count as usize / 3).sum(),
+            host_clipped: self.host_clipped,
             cpu_build_ms: self.cpu_ms,
             volume_fragments: None,
             caster_modes: self
@@ -107,7 +110,7 @@ pub(crate) fn build_light(
         casters.push(CasterVolume { object, counting, first: vertices.len() as u32, count: verts.len() as u32, stats });
         vertices.extend(verts);
     }
-    LightVolumes { casters, cpu_ms: started.elapsed().as_secs_f64() * 1e3 }
+    LightVolumes { casters, cpu_ms: started.elapsed().as_secs_f64() * 1e3, host_clipped: false }
 }
 
 /// The near-plane clip region of §3.4: the convex hull of the camera's near rectangle and the

@@ -12,7 +12,8 @@
 //! 3. the light's additive pass where stencil == 0 and depth EQUAL.
 
 pub(crate) mod build;
+pub(crate) mod clip;
 pub(crate) mod pass;
 mod settings;
 
-pub use settings::{FarPlane, ShadowVolumeSettings, VolumeMode};
+pub use settings::{FarPlane, HostClip, ShadowVolumeSettings, VolumeMode};

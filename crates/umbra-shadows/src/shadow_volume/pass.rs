@@ -17,6 +17,32 @@ pub(crate) const VOLUME_ATTRIBUTES: [VertexAttribute; 1] =
     [VertexAttribute { location: 0, format: vk::Format::R32G32B32A32_SFLOAT, offset: 0 }];
 pub(crate) const VOLUME_STRIDE: u32 = 16;
 
+/// What the volume pipelines read: the volume vertices as built, or clipped on the host
+/// ([`crate::HostClip`], `clip.rs`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum VolumeInput {
+    Built,
+    HostClipped,
+}
+
+impl VolumeInput {
+    /// `desc` reading this input: its vertex shader and layout.
+    fn apply(self, desc: &mut GraphicsPipelineDesc<'static>) {
+        match self {
+            VolumeInput::Built => {
+                desc.vertex = umbra_shaders::shadow_volume::EXTRUDE_VERT;
+                desc.vertex_stride = VOLUME_STRIDE;
+                desc.vertex_attributes = &VOLUME_ATTRIBUTES;
+            }
+            VolumeInput::HostClipped => {
+                desc.vertex = umbra_shaders::shadow_volume::EXTRUDE_CLIPPED_VERT;
+                desc.vertex_stride = super::clip::CLIPPED_STRIDE;
+                desc.vertex_attributes = &super::clip::CLIPPED_ATTRIBUTES;
+            }
+        }
+    }
+}
+
 /// Stencil ops of one face: `op` on `when` (pass or depth-fail), KEEP otherwise.
 fn face(op: vk::StencilOp, on_depth_fail: bool) -> StencilFace {
     StencilFace {
@@ -26,12 +52,11 @@ fn face(op: vk::StencilOp, on_depth_fail: bool) -> StencilFace {
     }
 }
 
-/// The z-fail counting pipeline (§2.1): volumes tested against the scene's depth (`clamp`:
-/// depth clamp on), two-sided stencil with wrap ops, no colour, no depth writes.
-pub(crate) fn zfail_desc(depth_format: vk::Format, clamp: bool) -> GraphicsPipelineDesc<'static> {
+/// The z-fail counting pipeline (§2.1): volumes (`input`) tested against the scene's depth
+/// (`clamp`: depth clamp on), two-sided stencil with wrap ops, no colour, no depth writes.
+pub(crate) fn zfail_desc(depth_format: vk::Format, clamp: bool, input: VolumeInput) -> GraphicsPipelineDesc<'static> {
     let mut desc = GraphicsPipelineDesc::new("shadow volume z-fail", umbra_shaders::shadow_volume::EXTRUDE_VERT);
-    desc.vertex_stride = VOLUME_STRIDE;
-    desc.vertex_attributes = &VOLUME_ATTRIBUTES;
+    input.apply(&mut desc);
     desc.cull = vk::CullModeFlags::NONE;
     desc.depth_format = depth_format;
     // Test against the scene's depth, never write it; LESS, so a front cap lying on its
@@ -66,7 +91,8 @@ impl<'a> VolumeBindings<'a> {
         light: u32,
         log: &mut PassLog,
     ) {
-        for c in casters {
+        // A caster clipped away entirely on the host (`clip.rs`) draws nothing.
+        for c in casters.into_iter().filter(|c| c.count > 0) {
             rec.push_constants(self.layout, &DrawPush { object: c.object as u32, view: light });
             rec.draw_range(c.count, c.first);
             log.count_draw(u64::from(c.count / 3));
@@ -90,9 +116,10 @@ impl ShadowVolumePass {
         depth_format: vk::Format,
         settings: &ShadowVolumeSettings,
         depth_bounds: bool,
+        input: VolumeInput,
     ) -> RenderResult<Self> {
         let clamp = settings.far_plane == FarPlane::DepthClamp;
-        let mut desc = zfail_desc(depth_format, clamp);
+        let mut desc = zfail_desc(depth_format, clamp, input);
         let zfail = Bounded::new(ctx, layout, &desc, depth_bounds)?;
         desc.name = "shadow volume z-pass";
         // z-pass: front faces increment, back faces decrement where the depth test passes.

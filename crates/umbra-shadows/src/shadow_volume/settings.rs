@@ -52,6 +52,37 @@ pub enum FarPlane {
     DepthClamp,
 }
 
+/// Whether shadow volumes are clipped to the view on the host before they are drawn: the
+/// workaround for drivers whose own frustum clipping is not watertight
+/// (`Capabilities::watertight_clipping`, false on SwiftShader). A volume triangle that leaves
+/// the view is cut to just inside it (|x|, |y| ≤ 0.9999 w, z ≥ 0) so that the driver clips
+/// nothing; its cut points are points on its original edges, found from the edges' endpoints
+/// alone, so neighbours share them, and the vertex shader places them, so the vertices the
+/// triangles keep stay bit-identical to the caster's own (`shadow_volume/clip.rs`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HostClip {
+    /// Where the device needs it (its clipping is not watertight).
+    #[default]
+    Auto,
+    /// On every device.
+    Always,
+    /// Never: the driver clips.
+    Never,
+}
+
+impl HostClip {
+    /// Whether volumes are clipped on the host on a device whose clipping is
+    /// `watertight_clipping`.
+    pub fn applies(self, watertight_clipping: bool) -> bool {
+        match self {
+            HostClip::Auto => !watertight_clipping,
+            HostClip::Always => true,
+            HostClip::Never => false,
+        }
+    }
+}
+
 /// How lights whose technique is `shadow_volume` are rendered.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct ShadowVolumeSettings {
@@ -62,4 +93,8 @@ pub struct ShadowVolumeSettings {
     /// Also render every volume fragment into an overdraw image (`Frame::overdraw`) and count
     /// them (Chan–Durand's O).
     pub overdraw: bool,
+    /// Clip the volumes to the view on the host ([`HostClip`]; default: where the driver
+    /// needs it).
+    #[serde(default)]
+    pub host_clip: HostClip,
 }
