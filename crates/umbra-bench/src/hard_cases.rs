@@ -98,8 +98,8 @@ identical), and judged against the exact CPU reference (`umbra-reference`, obvhs
 G-buffer). The rules (`crates/umbra-conformance/src/judge.rs`):\n\n\
 - **SV** (shadow volumes): no wrong pixel off the seam of a true shadow edge (a pixel with a 4-neighbour on the \
 other side). SwiftShader's frustum clipper is not watertight, so there the volumes are clipped to the view on the \
-host (`HostClip`); the few lone z-fail pixels left (front caps crossing the view's edge, which the driver still clips) \
-are tolerated up to 0.05 % and reported.\n\
+host (`HostClip`); the few lone z-fail pixels left there (inside the view; their cause is not isolated yet) are \
+tolerated up to 0.05 % and reported.\n\
 - **SM** (shadow map, 2×2 PCF) and **silmap** (silhouette map): no wrong pixel beyond 2 shadow-map texels of a change \
 of the true shadow or of the map's depth field (measured on the receiver, in the light's own map), or of a caster in \
 contact with the receiver. Silhouette maps have no cube form: point lights become spots for them.\n\
