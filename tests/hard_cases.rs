@@ -105,6 +105,7 @@ hard_case! {
     case_19_dueling_frusta => "19-dueling-frusta",
     case_20_eight_mixed_lights => "20-eight-mixed-lights",
     case_21_non_finite_mesh => "21-non-finite-mesh",
+    case_22_light_a_hair_above_small_occluders => "22-light-a-hair-above-small-occluders",
 }
 
 /// Adds a spot light to `s` with its cone changed by `f`.

@@ -151,6 +151,7 @@ pub const CASES: &[Case] = &[
     Case { file: "19-dueling-frusta", outcome: STRICT },
     Case { file: "20-eight-mixed-lights", outcome: judged(S, GRAZING_FACE, S, S) },
     Case { file: "21-non-finite-mesh", outcome: Outcome::TypedError },
+    Case { file: "22-light-a-hair-above-small-occluders", outcome: STRICT },
 ];
 
 /// The case whose file stem is `file`.
