@@ -365,23 +365,29 @@ fn three_hundred_overlapping_volumes_count_past_255() {
     });
 }
 
+/// Clip-space triangles (`vec4` positions, passed through) drawn into the device's
+/// depth/stencil format, both faces.
+fn clip_triangles_desc(ctx: &Context, name: &'static str) -> umbra::vk::GraphicsPipelineDesc<'static> {
+    use umbra::vk::{vk, GraphicsPipelineDesc, VertexAttribute};
+    const ATTRIBUTES: [VertexAttribute; 1] =
+        [VertexAttribute { location: 0, format: vk::Format::R32G32B32A32_SFLOAT, offset: 0 }];
+    let mut desc = GraphicsPipelineDesc::new(name, umbra::shaders::debug::CLIP_PASSTHROUGH_VERT);
+    desc.vertex_stride = 16;
+    desc.vertex_attributes = &ATTRIBUTES;
+    desc.cull = vk::CullModeFlags::NONE;
+    desc.depth_format = ctx.capabilities().depth_stencil_format;
+    desc
+}
+
 /// Rasterizes `triangles` (clip-space) with two-sided stencil counting (+1 front, −1 back,
 /// wrap) and no depth test, and returns how many pixels end at a nonzero count. A closed
 /// surface must leave every pixel at 0.
 fn nonzero_after_counting(ctx: &Context, triangles: &[Vec4], w: u32, h: u32) -> u64 {
-    use umbra::vk::{
-        vk, Buffer, DepthState, GraphicsPipeline, GraphicsPipelineDesc, PipelineLayout, StencilFace, VertexAttribute,
-    };
-    let format = ctx.capabilities().depth_stencil_format;
+    use umbra::vk::{vk, Buffer, DepthState, GraphicsPipeline, PipelineLayout, StencilFace};
     let target = common::depth_target(ctx, "count", w, h, vk::ImageUsageFlags::empty());
     let layout = PipelineLayout::new(ctx, "empty", &[], 0).unwrap();
-    let attrs = [VertexAttribute { location: 0, format: vk::Format::R32G32B32A32_SFLOAT, offset: 0 }];
-    let mut desc = GraphicsPipelineDesc::new("count", umbra::shaders::debug::CLIP_PASSTHROUGH_VERT);
-    desc.vertex_stride = 16;
-    desc.vertex_attributes = &attrs;
-    desc.cull = vk::CullModeFlags::NONE;
+    let mut desc = clip_triangles_desc(ctx, "count");
     desc.depth = DepthState::NONE;
-    desc.depth_format = format;
     let op = |o: vk::StencilOp| StencilFace { pass: o, ..StencilFace::KEEP };
     desc.stencil = Some((op(vk::StencilOp::INCREMENT_AND_WRAP), op(vk::StencilOp::DECREMENT_AND_WRAP)));
     let count = GraphicsPipeline::new(ctx, &layout, &desc).unwrap();
@@ -465,20 +471,13 @@ fn closed_volumes_rasterize_watertight() {
 /// Per triangle of `triangles`, how many samples of pixel (x, y) it covers front-facing and
 /// back-facing: an occlusion query per triangle and face, under a one-pixel scissor.
 fn coverage_at(ctx: &Context, triangles: &[Vec4], (w, h): (u32, u32), (x, y): (u32, u32)) -> Vec<(u64, u64)> {
-    use umbra::vk::{
-        vk, Buffer, DepthState, GraphicsPipeline, GraphicsPipelineDesc, PipelineLayout, QueryKind, QueryPool,
-        VertexAttribute,
-    };
+    use umbra::vk::{vk, Buffer, DepthState, GraphicsPipeline, PipelineLayout, QueryKind, QueryPool};
     let target = common::depth_target(ctx, "coverage", w, h, vk::ImageUsageFlags::empty());
     let layout = PipelineLayout::new(ctx, "empty", &[], 0).unwrap();
-    let attrs = [VertexAttribute { location: 0, format: vk::Format::R32G32B32A32_SFLOAT, offset: 0 }];
-    let mut desc = GraphicsPipelineDesc::new("front faces", umbra::shaders::debug::CLIP_PASSTHROUGH_VERT);
-    desc.vertex_stride = 16;
-    desc.vertex_attributes = &attrs;
+    let mut desc = clip_triangles_desc(ctx, "front faces");
     desc.cull = vk::CullModeFlags::BACK;
     // A depth test that always passes: SwiftShader counts no samples without one.
     desc.depth = DepthState { test: true, write: false, compare: vk::CompareOp::ALWAYS, ..DepthState::NONE };
-    desc.depth_format = ctx.capabilities().depth_stencil_format;
     let front = GraphicsPipeline::new(ctx, &layout, &desc).unwrap();
     desc.name = "back faces";
     desc.cull = vk::CullModeFlags::FRONT;
