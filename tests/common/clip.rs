@@ -2,6 +2,9 @@
 //! the driver's own clipper never runs when g < 1. Every cut point of an original edge is
 //! computed from that edge's endpoints in one canonical order (by their bit patterns), so two
 //! triangles sharing the edge get the same point; the pieces are fanned back into triangles.
+//! It works on host clip-space positions with a bound `g` of the test's choosing, so the tests
+//! can measure the formulation at the Vulkan level, apart from the renderer's own
+//! (`umbra_shadows` `shadow_volume/clip.rs`, which keeps the GPU's vertices and a fixed bound).
 
 use glam::Vec4;
 

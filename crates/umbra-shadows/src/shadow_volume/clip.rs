@@ -117,15 +117,20 @@ fn clip_triangle(v: [Vec4; 3], project: impl Fn(Vec4) -> DVec4, out: &mut Vec<Cl
             Point::Corner(_) => None,
         };
         let (ea, eb) = (ends(a)?, ends(b)?);
-        let shared: Vec<usize> = (0..3).filter(|k| ea.contains(k) || eb.contains(k)).collect();
-        match shared.as_slice() {
-            [i, j] => Some(if before(*i, *j) { (*i, *j) } else { (*j, *i) }),
-            _ => None,
+        // On an original edge exactly when the two points touch two of the three vertices.
+        let mut touched = (0..3).filter(|k| ea.contains(k) || eb.contains(k));
+        let (i, j) = (touched.next()?, touched.next()?);
+        match touched.next() {
+            Some(_) => None,
+            None => Some(if before(i, j) { (i, j) } else { (j, i) }),
         }
     };
-    let mut poly: Vec<Point> = (0..3).map(Point::Vertex).collect();
+    // At most 3 + 5 vertices after five planes; the two buffers are swapped plane by plane.
+    let mut poly: Vec<Point> = Vec::with_capacity(8);
+    poly.extend((0..3).map(Point::Vertex));
+    let mut next = Vec::with_capacity(8);
     for plane in PLANES {
-        let mut next = Vec::with_capacity(poly.len() + 2);
+        next.clear();
         for k in 0..poly.len() {
             let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
             let (da, db) = (plane(position(a)), plane(position(b)));
@@ -147,7 +152,7 @@ fn clip_triangle(v: [Vec4; 3], project: impl Fn(Vec4) -> DVec4, out: &mut Vec<Cl
                 }
             });
         }
-        poly = next;
+        std::mem::swap(&mut poly, &mut next);
         if poly.len() < 3 {
             return;
         }
