@@ -106,6 +106,7 @@ hard_case! {
     case_20_eight_mixed_lights => "20-eight-mixed-lights",
     case_21_non_finite_mesh => "21-non-finite-mesh",
     case_22_light_a_hair_above_small_occluders => "22-light-a-hair-above-small-occluders",
+    case_23_scanned_open_mesh_under_a_low_sun => "23-scanned-open-mesh-under-a-low-sun",
 }
 
 /// Adds a spot light to `s` with its cone changed by `f`.

@@ -79,12 +79,7 @@ fn render(ctx: &Context, scene: &Scene, mode: VolumeMode, far_plane: FarPlane) -
 /// (pixels compared, of which shadowed, wrong) for a frame against the reference.
 fn compare(scene: &Scene, reference: &Reference, shadowed: &Frame, plain: &Frame) -> (usize, usize, usize) {
     let (compared, in_shadow, wrong) = compare_pixels(scene, reference, shadowed, plain);
-    let lone =
-        wrong.iter().all(|&(x, y)| !wrong.iter().any(|&(u, v)| (u, v) != (x, y) && u.abs_diff(x) + v.abs_diff(y) == 1));
-    // Wrong pixels beyond lone sparkles (a crack line, a wrong region) count double, so the
-    // sparkle allowance never covers them.
-    let penalty = if lone { 0 } else { wrong.len() + 1_000_000 };
-    (compared, in_shadow, wrong.len() + penalty)
+    (compared, in_shadow, wrong.len())
 }
 
 /// (pixels compared, of which shadowed, the wrong pixels).
@@ -174,9 +169,7 @@ fn closed_meshes_match_the_exact_reference_outside_the_half_pixel_band() {
                 let file = format!("{}-{}-{far_plane:?}.png", scene.name.replace('.', "_"), mode.name());
                 shadowed.save_png(&common::output_dir("shadow_volume").join(file)).unwrap();
                 assert!(compared > 5_000 && in_shadow > 300, "{}: too little to compare", scene.name);
-                if wrong != 0 && wrong <= sparkle_allowance(ctx, compared) {
-                    println!("  KNOWN SWIFTSHADER ISSUE: {wrong} lone-pixel sparkle(s) tolerated (docs/techniques/shadow-volumes.md)");
-                } else if wrong != 0 {
+                if wrong != 0 {
                     failures.push(format!(
                         "{} ({} {far_plane:?}): {wrong} pixels disagree with the exact reference",
                         scene.name,
@@ -187,20 +180,6 @@ fn closed_meshes_match_the_exact_reference_outside_the_half_pixel_band() {
         }
         assert!(failures.is_empty(), "{failures:?}");
     });
-}
-
-/// Wrong pixels tolerated: none on lavapipe; on SwiftShader, lone-pixel sparkles up to 0.05% of
-/// the compared pixels. SwiftShader does not rasterize the volumes' long clipped triangles
-/// watertight (`closed_volumes_rasterize_watertight` shows it on the bare clip-space geometry,
-/// with no depth test, while the casters' in-view meshes count exactly), so z-fail, which counts
-/// geometry behind the visible surface, gets a few lone pixels wrong. Anything beyond that
-/// allowance fails; lavapipe is exact.
-fn sparkle_allowance(ctx: &Context, compared: usize) -> usize {
-    if ctx.capabilities().device_name.to_lowercase().contains("swiftshader") {
-        compared / 2_000
-    } else {
-        0
-    }
 }
 
 /// A slab above the floor under a point light, and the eye under the slab, inside its shadow
@@ -273,11 +252,7 @@ fn exact_in_zfail_and_auto(ctx: &Context, scene: &Scene, min_shadow: usize) {
         let file = format!("{}-{}.png", scene.name.replace([' ', '.'], "_"), mode.name());
         shadowed.save_png(&common::output_dir("shadow_volume").join(file)).unwrap();
         assert!(compared > 3_000 && in_shadow >= min_shadow, "{}: too little to compare", scene.name);
-        if wrong != 0 && wrong <= sparkle_allowance(ctx, compared) {
-            println!("  KNOWN SWIFTSHADER ISSUE: {wrong} lone-pixel sparkle(s) tolerated (docs/techniques/shadow-volumes.md)");
-        } else {
-            assert_eq!(wrong, 0, "{} ({}): pixels disagree with the exact reference", scene.name, mode.name());
-        }
+        assert_eq!(wrong, 0, "{} ({}): pixels disagree with the exact reference", scene.name, mode.name());
     }
 }
 
@@ -434,7 +409,10 @@ fn volume_clip_triangles(scene: &Scene, (w, h): (u32, u32)) -> Vec<Vec4> {
 
 #[test]
 fn closed_volumes_rasterize_watertight() {
-    // Every pixel must count 0.
+    // Every pixel must count 0 where the driver's clipper is watertight. The volumes are drawn
+    // as built, not clipped on the host: on SwiftShader (`Capabilities::watertight_clipping`
+    // false) this measures its clipper, which leaves a few lone pixels counted an odd way
+    // (at most 0.05 % of the image here) — what `HostClip` works around.
     common::with_context(|ctx| {
         let (w, h) = common::SIZE;
         for scene in &watertight_scenes() {
@@ -457,7 +435,7 @@ fn closed_volumes_rasterize_watertight() {
             let mesh_nonzero = nonzero_after_counting(ctx, &mesh_clip, w, h);
             println!("{}: the casters' meshes alone, {mesh_nonzero} pixels with a nonzero count", scene.name);
             assert_eq!(mesh_nonzero, 0, "{}: closed meshes in view must rasterize watertight", scene.name);
-            if nonzero != 0 && nonzero <= sparkle_allowance(ctx, (w * h) as usize) {
+            if !ctx.capabilities().watertight_clipping && nonzero <= (w * h) as usize / 2_000 {
                 // The z-fail sparkles' cause, isolated: the same closed clip-space triangles, no
                 // depth test, and the driver leaves a few pixels counted an odd way.
                 println!("  KNOWN SWIFTSHADER ISSUE: closed geometry does not rasterize watertight here");
@@ -651,6 +629,58 @@ fn host_clipping_changes_nothing_where_the_driver_clips_watertight() {
             if ctx.capabilities().watertight_clipping {
                 assert_eq!(differ, 0, "{}", scene.name);
             }
+        }
+    });
+}
+
+#[test]
+fn swiftshader_misses_a_volume_face_a_few_depth_ulps_behind_a_grazing_surface() {
+    // Hard case 11's residual on SwiftShader, reduced to two adjacent triangles of the scanned
+    // bunny (world space, an open mesh, hard case 11's camera and light). Pixel (157, 107)
+    // lies on their shared edge, lit at grazing incidence (n·l = 0.024 and 0.138): nothing
+    // blocks it, so the exact count is 0. The eye ray enters the two triangles' volume there
+    // and leaves it through a side 3.2e-4 world units behind, 18 f32 depth ulps at z = 0.98:
+    // that side must fail the depth test to close the count. lavapipe counts 0; SwiftShader's
+    // interpolated depth of the side (a triangle reaching the image border) lands in front of
+    // the surface, the exit is lost and the pixel counts -1 (stencil 255): shadowed.
+    let triangles = [
+        [
+            Vec3::new(0.746796, 0.351395, 0.141255),
+            Vec3::new(0.749388, 0.351152, 0.149967),
+            Vec3::new(0.749064, 0.363833, 0.140517),
+        ],
+        [
+            Vec3::new(0.749388, 0.351152, 0.149967),
+            Vec3::new(0.750783, 0.363626, 0.149850),
+            Vec3::new(0.749064, 0.363833, 0.140517),
+        ],
+    ];
+    let positions: Vec<Vec3> = triangles.iter().flatten().copied().collect();
+    let mut scene = Scene::new("two grazing bunny triangles");
+    scene.camera = Camera {
+        position: Vec3::new(-1.0, 3.0, 4.5),
+        target: Vec3::new(0.0, 0.7, 0.0),
+        fov_y_deg: 50.0,
+        near: 0.1,
+        up: Vec3::Y,
+        far: None,
+    };
+    let mesh = scene.add_mesh(umbra::scene::Mesh::with_flat_normals("pair", &positions, &[0, 1, 2, 3, 4, 5]).unwrap());
+    scene.add_object(mesh, Mat4::IDENTITY, Vec3::splat(0.7));
+    scene.lights.push(Light { technique: Technique::ShadowVolume, ..Light::point(Vec3::new(1.5, 5.0, 2.0), 30.0) });
+    common::with_context(|ctx| {
+        let (w, h) = common::SIZE;
+        let mut desc = RendererDesc::new(w, h);
+        desc.diagnostics = true;
+        let frame = Renderer::new(ctx, desc).unwrap().render(&scene).unwrap();
+        let stencil = frame.diagnostics[0].stencil.as_ref().expect("a shadow-volume light's stencil view");
+        let count = stencil[(107 * w + 157) as usize];
+        println!("pixel (157, 107): stencil count {count}");
+        if is_swiftshader(ctx) {
+            println!("KNOWN SWIFTSHADER ISSUE: a volume side 18 depth ulps behind the surface passes the depth test");
+            assert_eq!(count, 255, "SwiftShader counts this pixel otherwise now: revisit hard case 11's tolerance");
+        } else {
+            assert_eq!(count, 0);
         }
     });
 }

@@ -97,9 +97,10 @@ Each case is a scene file in [`tests/hard-cases/`](../tests/hard-cases) rendered
 identical), and judged against the exact CPU reference (`umbra-reference`, obvhs shadow rays from the frame's own \
 G-buffer). The rules (`crates/umbra-conformance/src/judge.rs`):\n\n\
 - **SV** (shadow volumes): no wrong pixel off the seam of a true shadow edge (a pixel with a 4-neighbour on the \
-other side). SwiftShader's frustum clipper is not watertight, so there the volumes are clipped to the view on the \
-host (`HostClip`); the few lone z-fail pixels left there (inside the view; their cause is not isolated yet) are \
-tolerated up to 0.05 % and reported.\n\
+other side), nor one that vertex snapping explains: the device snaps vertices to 2^-`subPixelPrecisionBits` px \
+(lavapipe 1/256, SwiftShader 1/16), so a pixel whose exact state changes when its surface point moves that far \
+across the image may go either way. The same rule on both drivers; SwiftShader's frustum clipper is not \
+watertight, so there the volumes are clipped to the view on the host (`HostClip`).\n\
 - **SM** (shadow map, 2×2 PCF) and **silmap** (silhouette map): no wrong pixel beyond 2 shadow-map texels of a change \
 of the true shadow or of the map's depth field (measured on the receiver, in the light's own map), or of a caster in \
 contact with the receiver. Silhouette maps have no cube form: point lights become spots for them.\n\

@@ -100,11 +100,12 @@ const TWIGS: Expect = Expect::Documented {
     why: "twigs thinner than a pixel: a pixel centre on a sub-pixel twig is decided by geometry a fraction of a pixel wide, where a handful of pixels differ (measured at most 6 of 19 142)",
 };
 
-/// Case 16, shadow volumes and the hybrid: 729 twig volumes.
-const TWIG_VOLUMES: Expect = Expect::Documented {
+/// Cases 11 and 23, shadow volumes and the hybrid: the scanned bunny's tiny triangles at
+/// grazing light.
+const GRAZING_SCAN: Expect = Expect::Documented {
     min: 0.0,
-    max: 0.0005,
-    why: "729 overlapping twig volumes: lavapipe misses at most 2 of 19 142 pixels (sub-pixel twigs); SwiftShader, its volumes clipped on the host (its own clipper is not watertight: 67 missed, 0.35 %), misses 5 (0.026 %)",
+    max: 0.0002,
+    why: "the scanned bunny lit at grazing incidence: where the eye ray leaves a volume through a side a few f32 depth ulps behind the surface, SwiftShader's interpolated depth misses it (tests/shadow_volume.rs reduces it to two triangles: 18 ulps); measured on SwiftShader 4 of 33 657 pixels in case 11 (n·l 0.02-0.07) and 1 of 30 891 in case 23 (n·l 0.004), none on lavapipe",
 };
 
 /// Case 14, silhouette maps: the ball's terminator at grazing incidence.
@@ -140,18 +141,19 @@ pub const CASES: &[Case] = &[
     Case { file: "08-300-overlapping-volumes", outcome: STRICT },
     Case { file: "09-zero-area-and-needles", outcome: STRICT },
     Case { file: "10-duplicated-vertices-t-junctions", outcome: STRICT },
-    Case { file: "11-open-meshes", outcome: STRICT },
+    Case { file: "11-open-meshes", outcome: judged(S, S, GRAZING_SCAN, GRAZING_SCAN) },
     Case { file: "12-non-manifold-edges", outcome: STRICT },
     Case { file: "13-coplanar-faces", outcome: STRICT },
     Case { file: "14-grazing-light-on-receiver", outcome: judged(S, GRAZING_BALL, S, S) },
     Case { file: "15-caster-smaller-than-a-texel", outcome: judged(SPECK, SPECK, S, SPECK) },
-    Case { file: "16-thin-geometry-tree", outcome: judged(S, TWIGS, TWIG_VOLUMES, TWIG_VOLUMES) },
+    Case { file: "16-thin-geometry-tree", outcome: judged(S, TWIGS, S, S) },
     Case { file: "17-silhouette-through-texel-corners", outcome: STRICT },
     Case { file: "18-two-silhouettes-in-one-texel", outcome: STRICT },
     Case { file: "19-dueling-frusta", outcome: STRICT },
     Case { file: "20-eight-mixed-lights", outcome: judged(S, GRAZING_FACE, S, S) },
     Case { file: "21-non-finite-mesh", outcome: Outcome::TypedError },
     Case { file: "22-light-a-hair-above-small-occluders", outcome: STRICT },
+    Case { file: "23-scanned-open-mesh-under-a-low-sun", outcome: judged(S, S, GRAZING_SCAN, GRAZING_SCAN) },
 ];
 
 /// The case whose file stem is `file`.

@@ -114,6 +114,24 @@ impl SceneBvh {
             ray.intersect(triangle, f64::from(r.tmax))
         })
     }
+
+    /// Every triangle of a shadow-casting object on `origin + t * dir` with `t` in
+    /// `(0, t_max)`, in no particular order; `dir` must be a unit vector.
+    pub fn blockers(&self, origin: Vec3, dir: Vec3, t_max: f32) -> Vec<usize> {
+        let mut out = Vec::new();
+        let Some(bvh) = self.bvh.as_ref() else { return out };
+        let ray = WatertightRay::new(origin, dir);
+        bvh.ray_traverse_miss(obvhs_ray(origin, dir, t_max), |r, id| {
+            let index = bvh.primitive_indices[id] as usize;
+            let triangle = &self.triangles[index];
+            if triangle.casts_shadows && ray.intersect(triangle, f64::from(r.tmax)).is_finite() {
+                out.push(index);
+            }
+            // Never report a hit, so the walk visits every triangle on the ray.
+            f32::INFINITY
+        });
+        out
+    }
 }
 
 fn to_obvhs(v: Vec3) -> obvhs_glam::Vec3A {

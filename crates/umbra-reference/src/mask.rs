@@ -105,6 +105,20 @@ pub fn shadow_state(light: &Light, bvh: &SceneBvh, s: &Surface) -> Option<bool> 
     Some(bvh.occluded(origin, dir, t_max))
 }
 
+/// The shadow-casting triangles (indices into [`SceneBvh::triangles`]) the shadow ray of
+/// [`shadow_state`] meets, or `None` where `light` does not reach `s`: empty exactly when
+/// `shadow_state` says lit.
+pub fn shadow_blockers(light: &Light, bvh: &SceneBvh, s: &Surface) -> Option<Vec<usize>> {
+    let (dir, distance) = towards(light.position, s.position);
+    if !reaches(light, s, dir) {
+        return None;
+    }
+    let offset = RAY_OFFSET_SCALE * s.position.abs().max_element().max(1.0);
+    let origin = s.position + s.normal * offset;
+    let t_max = if light.position.w == 0.0 { f32::INFINITY } else { distance - offset };
+    Some(bvh.blockers(origin, dir, t_max))
+}
+
 /// The unit direction from `p` towards a homogeneous light position, and the distance (infinite
 /// for w = 0).
 pub fn towards(light: Vec4, p: Vec3) -> (Vec3, f32) {

@@ -33,7 +33,7 @@ pub use light::{Light, LightKind, Spot, Technique};
 pub use mesh::{Aabb, Mesh, MAX_COORDINATE};
 pub use scene::{Object, Scene};
 pub use scene_file::{load_scene_file, parse_scene};
-pub use volume::{extrude, facing, silhouette_edges, Volume, VolumeStats, VolumeVertex};
+pub use volume::{extrude, facing, silhouette_edges, Facing, Volume, VolumeStats, VolumeVertex};
 
 use std::path::Path;
 

@@ -70,37 +70,60 @@ fn degenerate(t: &[u32; 3]) -> bool {
     t[0] == t[1] || t[1] == t[2] || t[0] == t[2]
 }
 
-/// Whether each triangle of `adj` faces the homogeneous light position `light` (in the mesh's
-/// object space): its plane evaluated at the light is positive, `d = A·Lx + B·Ly + C·Lz + D·Lw`,
-/// so directional lights (w = 0) need no special case.
-pub fn facing(adj: &Adjacency, light: Vec4) -> Vec<bool> {
+/// How a triangle faces a light.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Facing {
+    /// Its plane evaluated at the light is positive: the light sees its front.
+    Towards,
+    /// Negative: the light sees its back.
+    Away,
+    /// Exactly zero: its plane contains the light, which sees it edge-on. It blocks no light
+    /// ray (every one runs in its plane), so an open caster's construction leaves it out:
+    /// closed on its own it would be a flat sheet whose two sides cancel only where the
+    /// rasterizer happens to interpolate them alike. A closed caster counts it as
+    /// [`Facing::Away`] (part of the back cap), as the paper does.
+    EdgeOn,
+}
+
+/// How each triangle of `adj` faces the homogeneous light position `light` (in the mesh's
+/// object space), from its plane evaluated at the light, `d = A·Lx + B·Ly + C·Lz + D·Lw`, so
+/// directional lights (w = 0) need no special case.
+pub fn facing(adj: &Adjacency, light: Vec4) -> Vec<Facing> {
     adj.triangles
         .iter()
         .map(|t| {
             let [a, b, c] = t.map(|i| adj.positions[i as usize]);
             let n = (b - a).cross(c - a);
-            n.dot(light.truncate()) - n.dot(a) * light.w > 0.0
+            let d = n.dot(light.truncate()) - n.dot(a) * light.w;
+            if d > 0.0 {
+                Facing::Towards
+            } else if d < 0.0 {
+                Facing::Away
+            } else {
+                Facing::EdgeOn
+            }
         })
         .collect()
 }
 
-/// The silhouette edges of `adj` for the facing `lit` (from [`facing`]), directed as a casting
+/// The silhouette edges of `adj` for the facing `facing` (from [`facing`]), directed as a casting
 /// face walks them and repeated with their multiplicity: the one source of silhouettes for
 /// shadow volumes and silhouette maps.
 ///
 /// Closed meshes: edges between a light-facing and a back-facing face. Open or non-manifold
-/// meshes: every face casts, oriented towards the light, and an edge counts the net number of
-/// oriented faces walking it one way minus the other (boundary edges and edges of 3+ faces
-/// included).
-pub fn silhouette_edges(adj: &Adjacency, lit: &[bool]) -> Vec<[u32; 2]> {
+/// meshes: every face not edge-on to the light casts, oriented towards the light, and an edge
+/// counts the net number of oriented faces walking it one way minus the other (boundary edges
+/// and edges of 3+ faces included).
+pub fn silhouette_edges(adj: &Adjacency, facing: &[Facing]) -> Vec<[u32; 2]> {
     let closed = adj.report.closed;
     let mut out = Vec::new();
     for e in &adj.edges {
         let net: i32 = e
             .faces
             .iter()
-            .filter(|f| !closed || lit[f.face as usize])
-            .map(|f| if f.forward == (lit[f.face as usize] || closed) { 1 } else { -1 })
+            .map(|f| (f, facing[f.face as usize]))
+            .filter(|&(_, fa)| if closed { fa == Facing::Towards } else { fa != Facing::EdgeOn })
+            .map(|(f, fa)| if f.forward == (fa == Facing::Towards || closed) { 1 } else { -1 })
             .sum();
         let edge = if net > 0 { [e.v[0], e.v[1]] } else { [e.v[1], e.v[0]] };
         out.extend(std::iter::repeat_n(edge, net.unsigned_abs() as usize));
@@ -113,13 +136,14 @@ impl Volume {
     /// homogeneous position `light` **in the caster's object space** (w = 0 directional).
     /// A triangle faces the light when its plane evaluated at `light` is positive.
     pub fn build(adj: &Adjacency, light: Vec4) -> Self {
-        let lit = facing(adj, light);
+        let facings = facing(adj, light);
         let closed = adj.report.closed;
         let mut v = Volume::default();
-        for (t, &lit) in adj.triangles.iter().zip(&lit) {
-            if degenerate(t) {
+        for (t, &f) in adj.triangles.iter().zip(&facings) {
+            if degenerate(t) || (!closed && f == Facing::EdgeOn) {
                 continue;
             }
+            let lit = f == Facing::Towards;
             let [a, b, c] = *t;
             v.stats.light_facing += usize::from(lit);
             if closed {
@@ -135,7 +159,7 @@ impl Volume {
                 v.caps.push([far(a), far(c), far(b)]);
             }
         }
-        for [a, b] in silhouette_edges(adj, &lit) {
+        for [a, b] in silhouette_edges(adj, &facings) {
             // A casting face walking a -> b is closed by the side b -> a -> a_inf -> b_inf.
             v.sides.push([near(b), near(a), far(a)]);
             v.sides.push([near(b), far(a), far(b)]);
@@ -279,7 +303,7 @@ mod tests {
         adj.triangles
             .iter()
             .zip(&lit)
-            .filter(|(t, &l)| !degenerate(t) && (l || !adj.report.closed))
+            .filter(|(t, &f)| !degenerate(t) && (f == Facing::Towards || (!adj.report.closed && f != Facing::EdgeOn)))
             .map(|(t, _)| crossing(q, d, t.map(|i| adj.positions[i as usize].as_dvec3()), t_max).abs())
             .sum()
     }
@@ -361,6 +385,27 @@ mod tests {
         for light in [Vec4::new(0.3, 2.0, 0.5, 1.0), Vec4::new(0.2, 1.0, 0.1, 0.0), Vec4::new(-2.0, -1.0, 0.5, 1.0)] {
             assert!(Volume::build(&adj, light).is_closed());
         }
+    }
+
+    #[test]
+    fn an_open_triangle_edge_on_to_the_light_casts_nothing() {
+        // Hard case 06's fin: its plane x = 0.5 holds the light. Closed on its own it would be
+        // a flat sheet; it blocks no light ray, so it casts no volume at all.
+        let p = [Vec3::new(0.5, 0.5, 1.0), Vec3::new(0.5, 1.5, 1.0), Vec3::new(0.5, 1.0, 2.0)];
+        let adj = Adjacency::build(&crate::Mesh::with_flat_normals("fin", &p, &[0, 1, 2]).unwrap());
+        let light = Vec4::new(0.5, 3.0, 0.25, 1.0);
+        assert_eq!(facing(&adj, light), vec![Facing::EdgeOn]);
+        let v = Volume::build(&adj, light);
+        assert!(v.sides.is_empty() && v.caps.is_empty(), "{v:?}");
+        // A hair off the plane, it casts its thin wedge again.
+        let v = Volume::build(&adj, Vec4::new(0.5001, 3.0, 0.25, 1.0));
+        assert_eq!((v.caps.len(), v.sides.len()), (2, 6));
+        assert!(v.is_closed());
+        // A closed box with a face in the light's plane keeps the paper's construction.
+        let cube = Adjacency::build(&primitives::cuboid(Vec3::splat(0.5)));
+        let v = Volume::build(&cube, Vec4::new(0.5, 3.0, 0.25, 1.0));
+        assert_eq!(v.caps.len(), 12);
+        assert!(v.is_closed());
     }
 
     #[test]

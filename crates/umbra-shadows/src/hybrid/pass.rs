@@ -337,7 +337,8 @@ impl HybridPass {
         self.bind_volumes(cx.rec, h.mask, h.zfail);
         let b = VolumeBindings { layout: h.layout, gpu: h.gpu, vertices };
         b.bind(cx.rec);
-        b.draw(cx.rec, &h.volumes.casters, h.light as u32, cx.log);
+        let casters: Vec<_> = h.volumes.casters.iter().collect();
+        b.draw_counting(cx.rec, &casters, h.volumes.host_clipped, h.light as u32, cx.log);
         cx.rec.end_rendering();
     }
 

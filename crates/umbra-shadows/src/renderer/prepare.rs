@@ -223,12 +223,20 @@ impl Renderer {
             return Ok(());
         }
         // Drivers whose clipping is not watertight: every light's volumes cut to the view here.
-        let mut clipped = Vec::new();
+        let (mut clipped, mut cut_caps) = (Vec::new(), Vec::new());
         for light in lights.iter_mut() {
             let position = scene.lights[light.light()].position;
             if let Some(v) = light.volumes.as_mut() {
                 let started = std::time::Instant::now();
-                clip::clip_light(scene, position, view.view_proj, &vertices, &mut v.casters, &mut clipped);
+                clip::clip_light(
+                    scene,
+                    position,
+                    view.view_proj,
+                    &vertices,
+                    &mut v.casters,
+                    &mut clipped,
+                    &mut cut_caps,
+                );
                 v.cpu_ms += started.elapsed().as_secs_f64() * 1e3;
                 v.host_clipped = true;
             }

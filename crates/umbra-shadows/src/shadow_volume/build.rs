@@ -22,6 +22,9 @@ pub(crate) struct CasterVolume {
     pub counting: Counting,
     pub first: u32,
     pub count: u32,
+    /// The last `cut_caps` of the `count` vertices are front-cap triangles cut on the host
+    /// (`clip.rs`), drawn with [`super::pass::CUT_CAP_BIAS`]; 0 unless host-clipped.
+    pub cut_caps: u32,
     pub stats: VolumeStats,
 }
 
@@ -107,7 +110,14 @@ pub(crate) fn build_light(
         if verts.is_empty() {
             continue;
         }
-        casters.push(CasterVolume { object, counting, first: vertices.len() as u32, count: verts.len() as u32, stats });
+        casters.push(CasterVolume {
+            object,
+            counting,
+            first: vertices.len() as u32,
+            count: verts.len() as u32,
+            cut_caps: 0,
+            stats,
+        });
         vertices.extend(verts);
     }
     LightVolumes { casters, cpu_ms: started.elapsed().as_secs_f64() * 1e3, host_clipped: false }

@@ -13,6 +13,14 @@
 //! a triangle keeps (the front cap's, on its caster) stay bit-identical to the caster's own.
 //! Points where two clip planes meet lie on the boundary of the clipped region, within 10⁻⁴ of
 //! the view's edge, where no pixel centre is: they are sent in clip space.
+//!
+//! A front cap that leaves the view is cut too: left to the driver, two cap triangles sharing
+//! an edge (a floor's two top triangles) leave pixels along it to neither or both, counted
+//! wrong behind whatever hides the floor. Cut, its interpolated depth is no longer the
+//! caster's own, which z-fail needs where the caster is the visible surface (the cap must
+//! fail LESS there), so the cut caps go last in the caster's range (`CasterVolume::cut_caps`)
+//! and are drawn pushed back by a depth bias ([`super::pass::CUT_CAP_BIAS`]). Caps inside the
+//! view keep their vertices, bit-identical to the caster's, and no bias.
 
 use super::build::CasterVolume;
 use glam::{DMat4, DVec4, Mat4, Vec4};
@@ -66,17 +74,21 @@ pub(crate) fn clip_light(
     vertices: &[Vec4],
     casters: &mut [CasterVolume],
     out: &mut Vec<ClippedVertex>,
+    cut_caps: &mut Vec<ClippedVertex>,
 ) {
     let (vp, l) = (view_proj.as_dmat4(), light.as_dvec4());
     for c in casters.iter_mut() {
         let model = scene.objects.get(c.object).map_or(DMat4::IDENTITY, |o| o.transform.as_dmat4());
         let first = out.len() as u32;
         let range = c.first as usize..(c.first + c.count) as usize;
+        cut_caps.clear();
         for t in vertices.get(range).unwrap_or_default().chunks_exact(3) {
-            clip_triangle([t[0], t[1], t[2]], |v| clip_position(vp, model, l, v), out);
+            clip_triangle([t[0], t[1], t[2]], |v| clip_position(vp, model, l, v), out, cut_caps);
         }
+        out.extend_from_slice(cut_caps);
         c.first = first;
         c.count = out.len() as u32 - first;
+        c.cut_caps = cut_caps.len() as u32;
     }
 }
 
@@ -90,18 +102,21 @@ fn clip_position(vp: DMat4, model: DMat4, light: DVec4, v: Vec4) -> DVec4 {
     vp * world
 }
 
-/// Clips one triangle and fans what is left into `out` (nothing when it lies outside).
-fn clip_triangle(v: [Vec4; 3], project: impl Fn(Vec4) -> DVec4, out: &mut Vec<ClippedVertex>) {
+/// Clips one triangle and fans what is left into `out`, or into `cut_caps` for a front cap
+/// (every vertex finite) that had to be cut; nothing when it lies outside.
+fn clip_triangle(
+    v: [Vec4; 3],
+    project: impl Fn(Vec4) -> DVec4,
+    out: &mut Vec<ClippedVertex>,
+    cut_caps: &mut Vec<ClippedVertex>,
+) {
     let clip = v.map(&project);
     let inside = |p: DVec4| PLANES.iter().all(|d| d(p) >= 0.0);
-    // A front cap (every vertex finite) lies on its caster, whose own triangles the driver
-    // clips: cut here it would interpolate other depths than the caster's, and z-fail needs
-    // them equal (the cap must fail LESS). It stays whole.
-    let front_cap = v.iter().all(|p| p.w != 0.0);
-    if front_cap || clip.iter().all(|&p| inside(p)) {
+    if clip.iter().all(|&p| inside(p)) {
         out.extend(v.map(|a| ClippedVertex { a: a.to_array(), b: [0.0; 4], t: 0.0 }));
         return;
     }
+    let out = if v.iter().all(|p| p.w != 0.0) { cut_caps } else { out };
     // The canonical order of two vertices: by their bits, so a shared edge is seen alike.
     let before = |i: usize, j: usize| v[i].to_array().map(f32::to_bits) <= v[j].to_array().map(f32::to_bits);
     let position = |p: Point| match p {
@@ -175,7 +190,7 @@ mod tests {
     /// side or back-cap vertices (w = 0, so not a front cap) that carry their index in x.
     fn clip_at(clip: [Vec4; 3], out: &mut Vec<ClippedVertex>) {
         let v = [0.0, 1.0, 2.0].map(|i| Vec4::new(i, 0.0, 0.0, 0.0));
-        clip_triangle(v, |p| clip[p.x as usize].as_dvec4(), out);
+        clip_triangle(v, |p| clip[p.x as usize].as_dvec4(), out, &mut Vec::new());
     }
 
     /// The f64 clip position a clipped vertex stands for, given the clip positions of the
@@ -192,17 +207,17 @@ mod tests {
     }
 
     #[test]
-    fn a_triangle_inside_the_view_and_a_front_cap_are_kept_as_they_are() {
-        let mut out = Vec::new();
-        clip_at(
-            [Vec4::new(-0.5, -0.5, 0.5, 1.0), Vec4::new(0.5, -0.5, 0.5, 1.0), Vec4::new(0.0, 0.5, 0.5, 1.0)],
-            &mut out,
-        );
-        // A front cap (finite vertices) reaching far outside the view: left to the driver.
+    fn a_triangle_inside_the_view_is_kept_and_a_front_cap_leaving_it_is_cut_apart() {
+        let (mut out, mut caps) = (Vec::new(), Vec::new());
+        let inside = [Vec4::new(-0.5, -0.5, 0.5, 1.0), Vec4::new(0.5, -0.5, 0.5, 1.0), Vec4::new(0.0, 0.5, 0.5, 1.0)];
+        clip_triangle(inside, |p| p.as_dvec4(), &mut out, &mut caps);
+        assert_eq!(out.len(), 3);
+        assert!(out.iter().all(|v| v.t == 0.0) && caps.is_empty());
+        // A front cap (finite vertices) reaching far outside the view: cut, into `caps`.
         let cap = [Vec4::new(-5.0, -0.5, 0.5, 1.0), Vec4::new(5.0, -0.5, 0.5, 1.0), Vec4::new(0.0, 5.0, 0.5, 1.0)];
-        clip_triangle(cap, |p| p.as_dvec4(), &mut out);
-        assert_eq!(out.len(), 6);
-        assert!(out.iter().all(|v| v.t == 0.0));
+        clip_triangle(cap, |p| p.as_dvec4(), &mut out, &mut caps);
+        assert_eq!(out.len(), 3);
+        assert!(caps.len() >= 3 && caps.iter().any(|v| v.t != 0.0));
     }
 
     #[test]
@@ -228,7 +243,7 @@ mod tests {
         // first (index 1 → clip b), then 0 (→ a).
         let v = [Vec4::new(1.0, 0.0, 0.0, 0.0), Vec4::new(0.0, 0.0, 0.0, 0.0), Vec4::new(2.0, 0.0, 0.0, 0.0)];
         let clip_two = [a, b, d];
-        clip_triangle(v, |p| clip_two[p.x as usize].as_dvec4(), &mut two);
+        clip_triangle(v, |p| clip_two[p.x as usize].as_dvec4(), &mut two, &mut Vec::new());
         let on_edge = |vs: &[ClippedVertex]| -> Vec<ClippedVertex> {
             vs.iter().filter(|v| v.t > 0.0 && v.a[0] < 2.0 && v.b[0] < 2.0).copied().collect()
         };

@@ -43,6 +43,14 @@ impl VolumeInput {
     }
 }
 
+/// Depth bias of front caps cut on the host (`clip.rs`): `(constant, slope)` factors. Cut,
+/// a cap interpolates its caster's plane from other vertices than the caster's own draw, and
+/// both snap to the subpixel grid (1/16 px on SwiftShader), so their depths differ by up to
+/// about the depth change across 1/32 px plus rounding; pushed back by a quarter pixel's depth
+/// change and 8 units of the format's resolution, the cap still fails LESS where its caster is
+/// the visible surface. Uncut triangles are drawn with no bias (both factors 0: depth exact).
+pub(crate) const CUT_CAP_BIAS: (f32, f32) = (8.0, 0.25);
+
 /// Stencil ops of one face: `op` on `when` (pass or depth-fail), KEEP otherwise.
 fn face(op: vk::StencilOp, on_depth_fail: bool) -> StencilFace {
     StencilFace {
@@ -60,8 +68,10 @@ pub(crate) fn zfail_desc(depth_format: vk::Format, clamp: bool, input: VolumeInp
     desc.cull = vk::CullModeFlags::NONE;
     desc.depth_format = depth_format;
     // Test against the scene's depth, never write it; LESS, so a front cap lying on its
-    // caster's surface fails the test and counts as behind it (z-fail).
-    desc.depth = DepthState { test: true, write: false, compare: vk::CompareOp::LESS, clamp, ..DepthState::NONE };
+    // caster's surface fails the test and counts as behind it (z-fail). Host-clipped volumes
+    // set a dynamic depth bias: none for most triangles, CUT_CAP_BIAS for cut front caps.
+    let bias = input == VolumeInput::HostClipped;
+    desc.depth = DepthState { test: true, write: false, compare: vk::CompareOp::LESS, clamp, bias, ..DepthState::NONE };
     // Two-sided stencil in one draw: z-fail decrements on front faces and increments on
     // back faces where the depth test fails; *_AND_WRAP because counts interleave.
     desc.stencil = Some((face(vk::StencilOp::DECREMENT_AND_WRAP, true), face(vk::StencilOp::INCREMENT_AND_WRAP, true)));
@@ -83,7 +93,50 @@ impl<'a> VolumeBindings<'a> {
         rec.bind_vertex_buffer(self.vertices);
     }
 
-    /// One draw per caster, with the bound pipeline.
+    /// The counting draws (z-fail or z-pass, bound), one per caster: its range without the
+    /// cut front caps, then (when `volumes` were host-clipped) every caster's cut caps with
+    /// [`CUT_CAP_BIAS`].
+    pub fn draw_counting<'c>(
+        &self,
+        rec: &mut Recorder<'a>,
+        casters: &[&'c CasterVolume],
+        host_clipped: bool,
+        light: u32,
+        log: &mut PassLog,
+    ) {
+        if host_clipped {
+            rec.set_depth_bias(0.0, 0.0, 0.0);
+        }
+        let ranges = |cut: bool| {
+            casters.iter().map(move |c| match cut {
+                false => (c.object, c.first, c.count - c.cut_caps),
+                true => (c.object, c.first + c.count - c.cut_caps, c.cut_caps),
+            })
+        };
+        self.draw_ranges(rec, ranges(false), light, log);
+        if casters.iter().any(|c| c.cut_caps > 0) {
+            rec.set_depth_bias(CUT_CAP_BIAS.0, 0.0, CUT_CAP_BIAS.1);
+            self.draw_ranges(rec, ranges(true), light, log);
+        }
+    }
+
+    /// Draws `(object, first, count)` vertex ranges, skipping empty ones.
+    fn draw_ranges(
+        &self,
+        rec: &mut Recorder<'a>,
+        ranges: impl Iterator<Item = (usize, u32, u32)>,
+        light: u32,
+        log: &mut PassLog,
+    ) {
+        for (object, first, count) in ranges.filter(|r| r.2 > 0) {
+            rec.push_constants(self.layout, &DrawPush { object: object as u32, view: light });
+            rec.draw_range(count, first);
+            log.count_draw(u64::from(count / 3));
+        }
+    }
+
+    /// One draw per caster, its whole range, with the bound pipeline (no depth test: overdraw
+    /// and fragment counts).
     pub fn draw<'c>(
         &self,
         rec: &mut Recorder<'a>,
@@ -92,11 +145,7 @@ impl<'a> VolumeBindings<'a> {
         log: &mut PassLog,
     ) {
         // A caster clipped away entirely on the host (`clip.rs`) draws nothing.
-        for c in casters.into_iter().filter(|c| c.count > 0) {
-            rec.push_constants(self.layout, &DrawPush { object: c.object as u32, view: light });
-            rec.draw_range(c.count, c.first);
-            log.count_draw(u64::from(c.count / 3));
-        }
+        self.draw_ranges(rec, casters.into_iter().map(|c| (c.object, c.first, c.count)), light, log);
     }
 }
 
@@ -162,7 +211,7 @@ impl ShadowVolumePass {
             let pipeline = if counting == Counting::ZFail { &self.zfail } else { &self.zpass };
             pipeline.bind(rec, bounds);
             rec.set_stencil_reference(0);
-            b.draw(rec, casters, light, log);
+            b.draw_counting(rec, &casters, volumes.host_clipped, light, log);
         }
     }
 
