@@ -38,7 +38,7 @@
 //!   against the exact geometry, while the receiver keeps its own depth (the G-buffer and the
 //!   depth buffer are snapped alike). A wrong volume-decided pixel is explained when the truth
 //!   changes for its surface point moved by [`snap_step`] in x, in y or both, parallel to the
-//!   image at its own depth ([`snapping_explains`]); a point so moved below its own surface
+//!   image at its own depth (`snapping_explains`); a point so moved below its own surface
 //!   is brought back onto it along its light ray, since its own front cap moves with it.
 //!   Two things make such pixels lie off the seam: volumes of sub-pixel casters (needles,
 //!   twigs), and volume faces that pass within a fraction of a pixel of the surface point in
@@ -87,8 +87,8 @@ pub struct Judgement {
     pub seam: u64,
     /// Wrong map-decided pixels inside the texel band or in contact (beyond the seam).
     pub texel_band: u64,
-    /// Wrong volume-decided pixels beyond the seam explained by vertex snapping
-    /// ([`snapping_explains`]).
+    /// Wrong volume-decided pixels beyond the seam explained by vertex snapping (the module's
+    /// "Snapping" rule).
     pub snapping: u64,
     /// Wrong volume-decided pixels nothing explains.
     pub volume_unexplained: u64,
@@ -206,7 +206,7 @@ struct Snap {
     step: f32,
 }
 
-/// How far [`snapping_explains`] moves a surface point, in pixels: 2^−bits, twice the
+/// How far the judge's snapping rule moves a surface point, in pixels: 2^−bits, twice the
 /// distance a vertex snapped to 1/2^bits of a pixel moves in x or y.
 pub fn snap_step(sub_pixel_precision_bits: u32) -> f32 {
     0.5f32.powi(sub_pixel_precision_bits.min(24) as i32)

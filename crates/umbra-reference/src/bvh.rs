@@ -252,5 +252,14 @@ mod tests {
         // The upper cube casts no shadow: only the lower one blocks.
         assert!(bvh.occluded(Vec3::new(0.1, 10.0, 0.1), -Vec3::Y, 20.0));
         assert!(!bvh.occluded(Vec3::new(0.1, 10.0, 0.1), -Vec3::Y, 8.0));
+        // Every casting triangle on the ray: the lower cube's top and bottom, not the upper's;
+        // on a face's diagonal, both its triangles (the test is watertight).
+        let off_diagonal = Vec3::new(0.1, 10.0, 0.2);
+        let all = bvh.blockers(off_diagonal, -Vec3::Y, 20.0);
+        assert_eq!(all.len(), 2, "{all:?}");
+        assert!(all.iter().all(|&t| bvh.triangles()[t].object == 0));
+        assert_eq!(bvh.blockers(off_diagonal, -Vec3::Y, 10.0).len(), 1, "t_max stops the walk");
+        assert!(bvh.blockers(off_diagonal, -Vec3::Y, 8.0).is_empty());
+        assert_eq!(bvh.blockers(Vec3::new(0.1, 10.0, 0.1), -Vec3::Y, 10.0).len(), 2, "the top's two halves");
     }
 }

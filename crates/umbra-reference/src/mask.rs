@@ -95,13 +95,7 @@ impl ShadowMask {
 /// (the surface faces away, or lies outside a spot's cone), else whether the shadow ray from
 /// it (offset by [`RAY_OFFSET_SCALE`]·|p| along the normal) meets a caster before the light.
 pub fn shadow_state(light: &Light, bvh: &SceneBvh, s: &Surface) -> Option<bool> {
-    let (dir, distance) = towards(light.position, s.position);
-    if !reaches(light, s, dir) {
-        return None;
-    }
-    let offset = RAY_OFFSET_SCALE * s.position.abs().max_element().max(1.0);
-    let origin = s.position + s.normal * offset;
-    let t_max = if light.position.w == 0.0 { f32::INFINITY } else { distance - offset };
+    let (origin, dir, t_max) = shadow_ray(light, s)?;
     Some(bvh.occluded(origin, dir, t_max))
 }
 
@@ -109,14 +103,20 @@ pub fn shadow_state(light: &Light, bvh: &SceneBvh, s: &Surface) -> Option<bool> 
 /// [`shadow_state`] meets, or `None` where `light` does not reach `s`: empty exactly when
 /// `shadow_state` says lit.
 pub fn shadow_blockers(light: &Light, bvh: &SceneBvh, s: &Surface) -> Option<Vec<usize>> {
+    let (origin, dir, t_max) = shadow_ray(light, s)?;
+    Some(bvh.blockers(origin, dir, t_max))
+}
+
+/// The shadow ray of `s` (origin offset along the normal, unit direction, length), or `None`
+/// where `light` does not reach it.
+fn shadow_ray(light: &Light, s: &Surface) -> Option<(Vec3, Vec3, f32)> {
     let (dir, distance) = towards(light.position, s.position);
     if !reaches(light, s, dir) {
         return None;
     }
     let offset = RAY_OFFSET_SCALE * s.position.abs().max_element().max(1.0);
-    let origin = s.position + s.normal * offset;
     let t_max = if light.position.w == 0.0 { f32::INFINITY } else { distance - offset };
-    Some(bvh.blockers(origin, dir, t_max))
+    Some((s.position + s.normal * offset, dir, t_max))
 }
 
 /// The unit direction from `p` towards a homogeneous light position, and the distance (infinite
