@@ -107,6 +107,10 @@ hard_case! {
     case_21_non_finite_mesh => "21-non-finite-mesh",
     case_22_light_a_hair_above_small_occluders => "22-light-a-hair-above-small-occluders",
     case_23_scanned_open_mesh_under_a_low_sun => "23-scanned-open-mesh-under-a-low-sun",
+    case_24_256_overlapping_volumes => "24-256-overlapping-volumes",
+    case_25_512_overlapping_volumes => "25-512-overlapping-volumes",
+    case_26_128_overlapping_volumes => "26-128-overlapping-volumes",
+    case_27_384_overlapping_volumes => "27-384-overlapping-volumes",
 }
 
 /// Adds a spot light to `s` with its cone changed by `f`.

@@ -34,6 +34,15 @@ fn with_technique(scene: &Scene, t: Technique) -> Scene {
     s
 }
 
+/// Whether the device has `depthBounds`; without it, says what is skipped (`what`).
+fn has_depth_bounds(ctx: &Context, what: &str) -> bool {
+    let has = ctx.capabilities().depth_bounds;
+    if !has {
+        println!("SKIPPED on {}: {what}", ctx.capabilities().device_name);
+    }
+    has
+}
+
 fn is_swiftshader(ctx: &Context) -> bool {
     ctx.capabilities().device_name.to_lowercase().contains("swiftshader")
 }
@@ -154,11 +163,8 @@ fn the_mask_keeps_stencil_updates_to_silhouette_pixels() {
 #[test]
 fn both_real_masks_give_one_image() {
     common::with_context(|ctx| {
-        if !ctx.capabilities().depth_bounds {
-            println!(
-                "SKIPPED on {}: no depthBounds, so only the stencil mask runs here; SwiftShader compares both masks",
-                ctx.capabilities().device_name
-            );
+        if !has_depth_bounds(ctx, "no depthBounds, so only the stencil mask runs here; SwiftShader compares both masks")
+        {
             return;
         }
         for name in ["cubes", "cage"] {
@@ -274,6 +280,61 @@ fn blocker_culling_drops_hidden_casters_without_changing_the_image() {
             assert_eq!(plain.rgba, culled.rgba, "{name}: culling changed the image");
             if name == "hidden blocker" {
                 assert_eq!(report.culled_casters, Some(1), "the box under the plate is culled, nothing else");
+            }
+        }
+    });
+}
+
+/// `n` thin slabs stacked under a directional light from straight above, over a floor: every
+/// shadowed floor pixel lies in all `n` volumes.
+fn stacked_slabs(n: usize) -> Scene {
+    let mut s = Scene::new(format!("{n} slabs"));
+    let floor = s.add_mesh(primitives::cuboid(Vec3::new(6.0, 0.05, 6.0)));
+    s.add_object(floor, Mat4::from_translation(Vec3::new(0.0, -0.05, 0.0)), Vec3::splat(0.8));
+    let slab = s.add_mesh(primitives::cuboid(Vec3::new(1.0, 0.001, 1.0)));
+    for i in 0..n {
+        let y = 1.0 + i as f32 * 1.5 / n as f32;
+        s.add_object(slab, Mat4::from_translation(Vec3::new(0.0, y, 0.0)), Vec3::splat(0.5));
+    }
+    s.lights.push(Light { technique: Technique::Hybrid, ..Light::directional(Vec3::Y, 1.0) });
+    s.camera = Camera::look_at(Vec3::new(-2.5, 0.6, 3.5), Vec3::new(0.3, 0.0, 0.0));
+    s
+}
+
+#[test]
+fn counts_never_alias_under_any_mask() {
+    // 128 and 256 volumes on one pixel: multiples of the stencil mask's 7-bit count and of
+    // the full 8 bits. Under every mask the device has, the hybrid's visibility must equal the
+    // shadow volumes' (which count in batches too), and the report must say it batched.
+    common::with_context(|ctx| {
+        has_depth_bounds(ctx, "the depth-bounds mask (no depthBounds feature); SwiftShader covers it");
+        for n in [128, 256] {
+            let scene = stacked_slabs(n);
+            let mut desc = RendererDesc::new(W, H);
+            desc.read_visibility = true;
+            let exact = Renderer::new(ctx, desc)
+                .expect("renderer")
+                .render(&with_technique(&scene, Technique::ShadowVolume))
+                .expect("frame");
+            let truth = exact.shadow_mask(0).expect("a shadow-volume mask");
+            assert!(
+                truth.iter().filter(|s| **s == Some(true)).count() > 1_000,
+                "{n}: the slabs' shadow is on the floor"
+            );
+            for mask in
+                MaskKind::ALL.into_iter().filter(|m| *m != MaskKind::DepthBounds || ctx.capabilities().depth_bounds)
+            {
+                let frame = renderer(ctx, Some(mask), |d| d.read_visibility = true).render(&scene).expect("frame");
+                let batches = frame.report.lights[0].shadow_volume.as_ref().map_or(0, |v| v.count_batches);
+                let wrong =
+                    frame.shadow_mask(0).expect("a hybrid mask").iter().zip(&truth).filter(|(a, b)| a != b).count();
+                println!(
+                    "{n} slabs, {} mask: {batches} count batches, {wrong} pixels differ from shadow volumes",
+                    mask.name()
+                );
+                assert_eq!(wrong, 0, "{n} slabs, {} mask", mask.name());
+                let all_bits = if mask == MaskKind::Stencil { 127 } else { 255 };
+                assert_eq!(batches > 1, n + 1 > all_bits, "{n} slabs, {} mask: batching", mask.name());
             }
         }
     });

@@ -320,10 +320,10 @@ fn hard_cases_near_plane_open_box_directional_light_and_a_light_touching_a_surfa
 #[test]
 fn three_hundred_overlapping_volumes_count_past_255() {
     // 300 thin slabs stacked under a directional light from straight above: their shadows
-    // coincide, so a floor pixel in shadow lies in all 300 volumes. With 8-bit wrap ops the
-    // z-fail count is 300 mod 256 = 44, not 0: shadowed. (Under a point light the slabs' shadows
-    // differ in size, the count steps through 256 on a thin ring, and that ring reads as lit:
-    // the 8-bit stencil's limit, documented in docs/techniques/shadow-volumes.md.)
+    // coincide, so a floor pixel in shadow lies in all 300 volumes, past the 8-bit stencil.
+    // Their bounds (1 each, convex) sum past 255, so they are counted in batches of 127 folded
+    // into the stencil's top bit (docs/techniques/shadow-volumes.md; hard cases 24 and 25 take
+    // exactly 256 and 512, which 8-bit wrap ops alone would read as lit).
     let mut s = Scene::new("300 volumes");
     s.ambient = Vec3::ZERO;
     let floor = s.add_mesh(primitives::cuboid(Vec3::new(6.0, 0.05, 6.0)));

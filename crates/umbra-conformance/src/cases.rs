@@ -154,6 +154,10 @@ pub const CASES: &[Case] = &[
     Case { file: "21-non-finite-mesh", outcome: Outcome::TypedError },
     Case { file: "22-light-a-hair-above-small-occluders", outcome: STRICT },
     Case { file: "23-scanned-open-mesh-under-a-low-sun", outcome: judged(S, S, GRAZING_SCAN, GRAZING_SCAN) },
+    Case { file: "24-256-overlapping-volumes", outcome: STRICT },
+    Case { file: "25-512-overlapping-volumes", outcome: STRICT },
+    Case { file: "26-128-overlapping-volumes", outcome: STRICT },
+    Case { file: "27-384-overlapping-volumes", outcome: STRICT },
 ];
 
 /// The case whose file stem is `file`.

@@ -59,7 +59,14 @@ pub struct Adjacency {
     pub edges: Vec<Edge>,
     /// The topology summary.
     pub report: TopologyReport,
+    /// Closed, and every vertex on or behind every triangle's plane (f64): a convex solid,
+    /// whose shadow volume counts at most 1 anywhere, for any light. Only tested up to
+    /// [`CONVEX_TEST_TRIANGLES`] triangles (the test is vertices × triangles); false beyond.
+    pub convex: bool,
 }
+
+/// Meshes up to this many triangles are tested for [`Adjacency::convex`].
+pub const CONVEX_TEST_TRIANGLES: usize = 8192;
 
 impl Adjacency {
     /// Welds `mesh` by exact position and builds its edges.
@@ -84,8 +91,23 @@ impl Adjacency {
             .map(|t| [welded[t[0] as usize], welded[t[1] as usize], welded[t[2] as usize]])
             .collect();
         let (edges, report) = edges_of(positions.len(), &triangles);
-        Self { positions, triangles, edges, report }
+        let convex = report.closed && triangles.len() <= CONVEX_TEST_TRIANGLES && convex(&positions, &triangles);
+        Self { positions, triangles, edges, report, convex }
     }
+}
+
+/// Whether every position lies on or behind the plane of every non-degenerate triangle, the
+/// plane's side taken with a tolerance of 4 f32 epsilons of the mesh's extent (the rounding of
+/// the f32 positions of coplanar faces: a box's, a sphere's lat-long quads).
+fn convex(positions: &[Vec3], triangles: &[[u32; 3]]) -> bool {
+    let p: Vec<glam::DVec3> = positions.iter().map(|v| v.as_dvec3()).collect();
+    let extent = p.iter().fold(0.0f64, |m, v| m.max(v.abs().max_element())).max(1e-30);
+    triangles.iter().filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2]).all(|t| {
+        let [a, b, c] = t.map(|i| p[i as usize]);
+        let n = (b - a).cross(c - a);
+        let len = n.length();
+        len == 0.0 || p.iter().all(|v| n.dot(*v - a) / len <= 4.0 * f64::from(f32::EPSILON) * extent)
+    })
 }
 
 impl TopologyReport {
@@ -135,6 +157,20 @@ fn edges_of(vertex_count: usize, triangles: &[[u32; 3]]) -> (Vec<Edge>, Topology
 mod tests {
     use super::*;
     use crate::primitives;
+
+    #[test]
+    fn boxes_spheres_and_cylinders_are_convex_and_a_dented_sphere_or_a_plane_is_not() {
+        for m in [
+            primitives::cuboid(Vec3::new(1.0, 0.002, 1.0)),
+            primitives::sphere(1.0, 16, 8),
+            primitives::cylinder(1.0, 2.0, 12),
+        ] {
+            assert!(Adjacency::build(&m).convex, "{}", m.name);
+        }
+        let dented = primitives::displaced_sphere(1.0, 16, 8, |u, _| if u < 0.1 { 0.8 } else { 1.0 });
+        assert!(!Adjacency::build(&dented).convex);
+        assert!(!Adjacency::build(&primitives::plane(1.0)).convex, "open meshes are never convex solids");
+    }
 
     #[test]
     fn closed_primitives_are_closed_and_a_plane_is_not() {

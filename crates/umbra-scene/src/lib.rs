@@ -25,7 +25,7 @@ mod scene;
 mod scene_file;
 mod volume;
 
-pub use adjacency::{Adjacency, Edge, EdgeFace, TopologyReport};
+pub use adjacency::{Adjacency, Edge, EdgeFace, TopologyReport, CONVEX_TEST_TRIANGLES};
 pub use camera::Camera;
 pub use error::{SceneError, SceneResult};
 pub use gltf::{import_gltf, import_gltf_slice};

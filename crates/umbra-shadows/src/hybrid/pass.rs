@@ -11,6 +11,7 @@ use crate::forward;
 use crate::frame::{PassRecorder, QueryId};
 use crate::gpu_scene::{DrawPush, GpuScene};
 use crate::shadow_map::{self, ShadowFilter, ShadowMapSettings};
+use crate::shadow_volume::batches::{counting_in_batch, fold_desc, record_in_batches, CountBits, FULL_STENCIL};
 use crate::shadow_volume::build::LightVolumes;
 use crate::shadow_volume::pass::{self as volume_pass, VolumeBindings};
 use crate::visibility::VISIBILITY_FORMAT;
@@ -51,6 +52,13 @@ pub(crate) struct HybridPass {
     /// Z-fail volumes with the depth-bounds test (`None` without `depthBounds`).
     volumes_depth_bounds: Option<GraphicsPipeline>,
     volumes_stencil: GraphicsPipeline,
+    /// The same three counting in a batch's bits ([`count_bits`]; `shadow_volume/batches.rs`),
+    /// and the folds between batches, over the whole stencil and under the silhouette bit.
+    volumes_depth_bounds_batch: Option<GraphicsPipeline>,
+    volumes_stencil_batch: GraphicsPipeline,
+    volumes_none_batch: GraphicsPipeline,
+    fold: GraphicsPipeline,
+    fold_under_silhouette: GraphicsPipeline,
     /// Step 4, per counting target: silhouette pixels lit where the count (the whole stencil, or
     /// its count bits with the stencil mask) is 0, shadowed where it is not.
     resolve: [GraphicsPipeline; 2],
@@ -161,8 +169,18 @@ impl HybridPass {
 
         // Step 3: z-fail volumes, masked.
         let mut desc = volume_pass::zfail_desc(depth_format, clamp, input);
+        let none_batch = counting_in_batch(&desc, "hybrid volumes (no mask, batch)", FULL_STENCIL);
+        let volumes_none_batch = GraphicsPipeline::new(ctx, layout, &none_batch)?;
         let volumes_depth_bounds =
             with_depth_bounds(ctx, layout, desc, "hybrid volumes (depth-bounds mask)", caps.depth_bounds)?;
+        let volumes_depth_bounds_batch =
+            with_depth_bounds(ctx, layout, none_batch, "hybrid volumes (depth-bounds mask, batch)", caps.depth_bounds)?;
+        let fold = GraphicsPipeline::new(ctx, layout, &fold_desc("hybrid batch fold", depth_format, FULL_STENCIL))?;
+        let fold_under_silhouette = GraphicsPipeline::new(
+            ctx,
+            layout,
+            &fold_desc("hybrid batch fold (under the silhouette bit)", depth_format, UNDER_SILHOUETTE_BIT),
+        )?;
         desc.name = "hybrid volumes (stencil mask)";
         // Only where the silhouette bit is set; count in the low bits (settings::COUNT_BITS).
         desc.stencil = desc.stencil.map(|(front, back)| {
@@ -175,6 +193,8 @@ impl HybridPass {
             (masked(front), masked(back))
         });
         let volumes_stencil = GraphicsPipeline::new(ctx, layout, &desc)?;
+        let stencil_batch = counting_in_batch(&desc, "hybrid volumes (stencil mask, batch)", UNDER_SILHOUETTE_BIT);
+        let volumes_stencil_batch = GraphicsPipeline::new(ctx, layout, &stencil_batch)?;
 
         // Diagnostic fragment counts: the volume draws with only the mask's test. The depth test
         // is on but ALWAYS passes: SwiftShader skips the depth-bounds test while it is off.
@@ -213,6 +233,11 @@ impl HybridPass {
             mask_none,
             volumes_depth_bounds,
             volumes_stencil,
+            volumes_depth_bounds_batch,
+            volumes_stencil_batch,
+            volumes_none_batch,
+            fold,
+            fold_under_silhouette,
             resolve,
             resolve_count_bits,
             fragments_depth_bounds,
@@ -334,11 +359,15 @@ impl HybridPass {
         let Some(vertices) = h.vertices else { return };
         let target = self.count_target(h.mask, h.depth);
         cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(DepthAttachment::keep(target)) });
-        self.bind_volumes(cx.rec, h.mask, h.zfail);
         let b = VolumeBindings { layout: h.layout, gpu: h.gpu, vertices };
         b.bind(cx.rec);
-        let casters: Vec<_> = h.volumes.casters.iter().collect();
-        b.draw_counting(cx.rec, &casters, h.volumes.host_clipped, h.light as u32, cx.log);
+        let (bits, host_clipped) = (count_bits(h.mask), h.volumes.host_clipped);
+        let fold = if h.mask == MaskKind::Stencil { &self.fold_under_silhouette } else { &self.fold };
+        record_in_batches(cx.rec, cx.log, &h.volumes.casters, bits, fold, |rec, log, batch, batched| {
+            self.bind_volumes(rec, h.mask, h.zfail, batched);
+            let casters: Vec<_> = batch.iter().collect();
+            b.draw_counting(rec, &casters, host_clipped, h.light as u32, log);
+        });
         cx.rec.end_rendering();
     }
 
@@ -394,24 +423,43 @@ impl HybridPass {
     }
 
     /// Binds the counting pipeline of `mask` and its dynamic state.
-    fn bind_volumes<'a>(&'a self, rec: &mut Recorder<'a>, mask: MaskKind, unmasked: &'a GraphicsPipeline) {
-        match (mask, &self.volumes_depth_bounds) {
+    fn bind_volumes<'a>(
+        &'a self,
+        rec: &mut Recorder<'a>,
+        mask: MaskKind,
+        unmasked: &'a GraphicsPipeline,
+        batched: bool,
+    ) {
+        let depth_bounds = if batched { &self.volumes_depth_bounds_batch } else { &self.volumes_depth_bounds };
+        match (mask, depth_bounds) {
             (MaskKind::DepthBounds, Some(p)) => {
                 rec.bind_pipeline(p);
                 rec.set_depth_bounds(DEPTH_BOUNDS_EPSILON, 1.0);
                 rec.set_stencil_reference(0);
             }
             (MaskKind::Stencil, _) => {
-                rec.bind_pipeline(&self.volumes_stencil);
+                rec.bind_pipeline(if batched { &self.volumes_stencil_batch } else { &self.volumes_stencil });
                 rec.set_stencil_reference(SILHOUETTE_BIT);
             }
             _ => {
-                rec.bind_pipeline(unmasked);
+                rec.bind_pipeline(if batched { &self.volumes_none_batch } else { unmasked });
                 rec.set_stencil_reference(0);
             }
         }
     }
 }
+
+/// The stencil's count layout under `mask` (`shadow_volume/batches.rs`): the whole stencil,
+/// or, with the stencil mask, the seven bits under [`SILHOUETTE_BIT`].
+pub(crate) fn count_bits(mask: MaskKind) -> CountBits {
+    match mask {
+        MaskKind::Stencil => UNDER_SILHOUETTE_BIT,
+        _ => FULL_STENCIL,
+    }
+}
+
+/// The stencil mask's count: seven bits at once, six in a batch, bit 6 folded.
+const UNDER_SILHOUETTE_BIT: CountBits = CountBits { all: 0x7f, batch: 0x3f, fold: 0x40 };
 
 /// What one hybrid light's passes read and write.
 #[derive(Clone, Copy)]

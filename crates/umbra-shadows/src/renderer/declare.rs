@@ -80,7 +80,11 @@ impl Renderer {
         }
         for light in lights.iter_mut() {
             if let Some(v) = &light.volumes {
-                light.plan.shadow_volume = Some(v.report(scene));
+                let bits = match light.plan.technique {
+                    umbra_scene::Technique::Hybrid => crate::hybrid::pass::count_bits(self.mask),
+                    _ => crate::shadow_volume::batches::FULL_STENCIL,
+                };
+                light.plan.shadow_volume = Some(v.report(scene, bits));
             }
             light.culled_blockers = culling.culled(light.light());
             if let Some(n) = light.culled_blockers {

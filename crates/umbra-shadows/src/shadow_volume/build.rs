@@ -25,6 +25,9 @@ pub(crate) struct CasterVolume {
     /// The last `cut_caps` of the `count` vertices are front-cap triangles cut on the host
     /// (`clip.rs`), drawn with [`super::pass::CUT_CAP_BIAS`]; 0 unless host-clipped.
     pub cut_caps: u32,
+    /// The most this volume can add to a pixel's count: 1 for a convex solid
+    /// (`Adjacency::convex`), else its cap triangles (each adds at most 1).
+    pub count_bound: u32,
     pub stats: VolumeStats,
 }
 
@@ -38,8 +41,9 @@ pub(crate) struct LightVolumes {
 }
 
 impl LightVolumes {
-    /// The report of these volumes (`volume_fragments` is filled in once counted).
-    pub fn report(&self, scene: &Scene) -> ShadowVolumeReport {
+    /// The report of these volumes (`volume_fragments` is filled in once counted), counted
+    /// with the stencil layout `bits`.
+    pub fn report(&self, scene: &Scene, bits: super::batches::CountBits) -> ShadowVolumeReport {
         let mode = |c: Counting| if c == Counting::ZPass { "zpass" } else { "zfail" };
         ShadowVolumeReport {
             casters: self.casters.len(),
@@ -48,6 +52,7 @@ impl LightVolumes {
             silhouette_edges: self.casters.iter().map(|c| c.stats.silhouette_edges).sum(),
             volume_triangles: self.casters.iter().map(|c| c.count as usize / 3).sum(),
             host_clipped: self.host_clipped,
+            count_batches: super::batches::count_batches(&self.casters, bits).len(),
             cpu_build_ms: self.cpu_ms,
             volume_fragments: None,
             caster_modes: self
@@ -81,7 +86,7 @@ pub(crate) fn build_light(
 ) -> LightVolumes {
     let started = std::time::Instant::now();
     let near_region = NearRegion::new(camera, aspect, light.position);
-    let built: Vec<(usize, Counting, Vec<Vec4>, VolumeStats)> = casters
+    let built: Vec<(usize, Counting, Vec<Vec4>, VolumeStats, u32)> = casters
         .par_iter()
         .filter_map(|&i| {
             let o = scene.objects.get(i)?;
@@ -102,11 +107,12 @@ pub(crate) fn build_light(
                 }
             };
             let verts = volume.vertices(adj, counting == Counting::ZFail);
-            Some((i, counting, verts, volume.stats))
+            let bound = if adj.convex { 1 } else { volume.stats.cap_triangles as u32 };
+            Some((i, counting, verts, volume.stats, bound))
         })
         .collect();
     let mut casters = Vec::with_capacity(built.len());
-    for (object, counting, verts, stats) in built {
+    for (object, counting, verts, stats, count_bound) in built {
         if verts.is_empty() {
             continue;
         }
@@ -116,6 +122,7 @@ pub(crate) fn build_light(
             first: vertices.len() as u32,
             count: verts.len() as u32,
             cut_caps: 0,
+            count_bound,
             stats,
         });
         vertices.extend(verts);

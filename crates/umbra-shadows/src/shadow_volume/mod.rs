@@ -8,9 +8,12 @@
 //!    region between the eye and the light, z-fail otherwise;
 //! 2. on the GPU (`pass.rs`): vertices extruded to infinity in the vertex shader, with the far
 //!    plane at infinity (§2.2) or depth clamp (§2.3); one draw per caster with two-sided
-//!    stencil and wrap ops, colour and depth writes off, stencil cleared per light;
+//!    stencil and wrap ops, colour and depth writes off, stencil cleared per light; in
+//!    batches folded into one bit where the casters could count past the stencil
+//!    (`batches.rs`);
 //! 3. the light's additive pass where stencil == 0 and depth EQUAL.
 
+pub(crate) mod batches;
 pub(crate) mod build;
 pub(crate) mod clip;
 pub(crate) mod pass;

@@ -1,6 +1,9 @@
 //! The stencil pass (Everitt–Kilgard §2.1): each caster's volume drawn once with two-sided
 //! stencil and wrap ops, colour and depth writes off, then (optionally) the overdraw image.
 
+//! Counted in batches where the casters' bounds call for it (`batches.rs`).
+
+use super::batches::{counting_in_batch, fold_desc, record_in_batches, FULL_STENCIL};
 use super::build::{CasterVolume, Counting, LightVolumes};
 use super::settings::{FarPlane, ShadowVolumeSettings};
 use crate::forward::{Bounded, PassBounds};
@@ -149,10 +152,28 @@ impl<'a> VolumeBindings<'a> {
     }
 }
 
+/// A counting pipeline (with its depth-bounds twin when `depth_bounds`) and the same counting
+/// in a batch's bits, named `batch`.
+fn counting_pair(
+    ctx: &Context,
+    layout: &PipelineLayout,
+    desc: &GraphicsPipelineDesc<'_>,
+    batch: &'static str,
+    depth_bounds: bool,
+) -> RenderResult<(Bounded, Bounded)> {
+    let twin = counting_in_batch(desc, batch, FULL_STENCIL);
+    Ok((Bounded::new(ctx, layout, desc, depth_bounds)?, Bounded::new(ctx, layout, &twin, depth_bounds)?))
+}
+
 /// Pipelines of the shadow-volume technique.
 pub(crate) struct ShadowVolumePass {
     zfail: Bounded,
     zpass: Bounded,
+    /// The same, counting in a batch's bits (`batches.rs`).
+    zfail_batch: Bounded,
+    zpass_batch: Bounded,
+    /// Between batches: the batch's "count ≠ 0" kept in the fold bit, the count cleared.
+    fold: GraphicsPipeline,
     overdraw: Option<GraphicsPipeline>,
 }
 
@@ -168,13 +189,16 @@ impl ShadowVolumePass {
         input: VolumeInput,
     ) -> RenderResult<Self> {
         let clamp = settings.far_plane == FarPlane::DepthClamp;
+        let counting = |desc: &GraphicsPipelineDesc<'_>, batch| counting_pair(ctx, layout, desc, batch, depth_bounds);
         let mut desc = zfail_desc(depth_format, clamp, input);
-        let zfail = Bounded::new(ctx, layout, &desc, depth_bounds)?;
+        let (zfail, zfail_batch) = counting(&desc, "shadow volume z-fail (batch)")?;
         desc.name = "shadow volume z-pass";
         // z-pass: front faces increment, back faces decrement where the depth test passes.
         desc.stencil =
             Some((face(vk::StencilOp::INCREMENT_AND_WRAP, false), face(vk::StencilOp::DECREMENT_AND_WRAP, false)));
-        let zpass = Bounded::new(ctx, layout, &desc, depth_bounds)?;
+        let (zpass, zpass_batch) = counting(&desc, "shadow volume z-pass (batch)")?;
+        let fold =
+            GraphicsPipeline::new(ctx, layout, &fold_desc("shadow volume batch fold", depth_format, FULL_STENCIL))?;
         let overdraw = if settings.overdraw {
             desc.name = "shadow volume overdraw";
             desc.fragment = Some(umbra_shaders::shadow_volume::OVERDRAW_FRAG);
@@ -187,7 +211,7 @@ impl ShadowVolumePass {
         } else {
             None
         };
-        Ok(Self { zfail, zpass, overdraw })
+        Ok(Self { zfail, zpass, zfail_batch, zpass_batch, fold, overdraw })
     }
 
     /// Records light `light`'s volumes into the stencil buffer (inside a rendering pass with
@@ -203,16 +227,23 @@ impl ShadowVolumePass {
         log: &mut PassLog,
     ) {
         b.bind(rec);
-        for counting in [Counting::ZFail, Counting::ZPass] {
-            let casters: Vec<_> = volumes.casters.iter().filter(|c| c.counting == counting).collect();
-            if casters.is_empty() {
-                continue;
+        record_in_batches(rec, log, &volumes.casters, FULL_STENCIL, &self.fold, |rec, log, batch, batched| {
+            for counting in [Counting::ZFail, Counting::ZPass] {
+                let casters: Vec<_> = batch.iter().filter(|c| c.counting == counting).collect();
+                if casters.is_empty() {
+                    continue;
+                }
+                let pipeline = match (counting, batched) {
+                    (Counting::ZFail, false) => &self.zfail,
+                    (Counting::ZPass, false) => &self.zpass,
+                    (Counting::ZFail, true) => &self.zfail_batch,
+                    (Counting::ZPass, true) => &self.zpass_batch,
+                };
+                pipeline.bind(rec, bounds);
+                rec.set_stencil_reference(0);
+                b.draw_counting(rec, &casters, volumes.host_clipped, light, log);
             }
-            let pipeline = if counting == Counting::ZFail { &self.zfail } else { &self.zpass };
-            pipeline.bind(rec, bounds);
-            rec.set_stencil_reference(0);
-            b.draw_counting(rec, &casters, volumes.host_clipped, light, log);
-        }
+        });
     }
 
     /// The z-fail counting pipeline, unmasked.
