@@ -111,6 +111,8 @@ hard_case! {
     case_25_512_overlapping_volumes => "25-512-overlapping-volumes",
     case_26_128_overlapping_volumes => "26-128-overlapping-volumes",
     case_27_384_overlapping_volumes => "27-384-overlapping-volumes",
+    case_28_thin_parts_on_a_large_floor => "28-thin-parts-on-a-large-floor",
+    case_29_near_plane_slices_an_occluder_under_a_low_sun => "29-near-plane-slices-an-occluder-under-a-low-sun",
 }
 
 /// Adds a spot light to `s` with its cone changed by `f`.

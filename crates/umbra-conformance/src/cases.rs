@@ -158,6 +158,8 @@ pub const CASES: &[Case] = &[
     Case { file: "25-512-overlapping-volumes", outcome: STRICT },
     Case { file: "26-128-overlapping-volumes", outcome: STRICT },
     Case { file: "27-384-overlapping-volumes", outcome: STRICT },
+    Case { file: "28-thin-parts-on-a-large-floor", outcome: STRICT },
+    Case { file: "29-near-plane-slices-an-occluder-under-a-low-sun", outcome: STRICT },
 ];
 
 /// The case whose file stem is `file`.
