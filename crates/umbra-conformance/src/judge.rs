@@ -65,6 +65,18 @@ pub const EDGE_ON: f32 = 1e-3;
 /// Unexplained pixels listed in [`Judgement::unexplained_at`].
 pub const SHOWN: usize = 12;
 
+/// Which rule judges the hybrid's pixels.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum HybridRule {
+    /// The volume rule on its silhouette pixels, the map rule elsewhere (what it promises
+    /// today, and what the suite holds it to).
+    #[default]
+    MapOutsideSilhouettes,
+    /// The volume rule everywhere (`umbra-bench hard-cases --hybrid-rule volumes`): how far the
+    /// hybrid is from shadow-volume accuracy, the goal of #23.
+    Volumes,
+}
+
 /// Fewest decided pixels a light must give for its case to test anything.
 pub const MIN_COMPARED: u64 = 500;
 
@@ -122,14 +134,15 @@ impl Judgement {
 
 /// Judges every light of `frame` (rendered from `scene`, whose lights all use `technique`,
 /// with diagnostics, the visibility readback and a G-buffer, on a device with
-/// `sub_pixel_precision_bits`); returns the judgement and, per light, the technique's and the
-/// true mask.
+/// `sub_pixel_precision_bits`), the hybrid by `hybrid_rule`; returns the judgement and, per
+/// light, the technique's and the true mask.
 pub fn judge(
     scene: &Scene,
     bvh: &SceneBvh,
     frame: &Frame,
     technique: Technique,
     sub_pixel_precision_bits: u32,
+    hybrid_rule: HybridRule,
 ) -> ConformanceResult<(Judgement, Vec<(ShadowMask, ShadowMask)>)> {
     let snap = Snap {
         view_proj: scene.camera.view_proj(frame.width as f32 / frame.height as f32),
@@ -173,8 +186,8 @@ pub fn judge(
                 continue;
             }
             let class = PixelClass::decode(pixel(&d.classification, i));
-            let by_volume =
-                technique == Technique::ShadowVolume || (technique == Technique::Hybrid && class.is_silhouette());
+            let by_volume = technique == Technique::ShadowVolume
+                || (technique == Technique::Hybrid && (hybrid_rule == HybridRule::Volumes || class.is_silhouette()));
             if by_volume && surface.is_some_and(|s| snapping_explains(light, bvh, &snap, s, r)) {
                 j.snapping += 1;
                 continue;
