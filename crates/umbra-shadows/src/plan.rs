@@ -235,9 +235,10 @@ pub struct ShadowVolumeReport {
     /// Whether the volumes were clipped to the view on the host before they were drawn
     /// (`ShadowVolumeSettings::host_clip`; on drivers whose clipping is not watertight).
     pub host_clipped: bool,
-    /// Batches the casters were counted in: 1 when their count bounds sum below 256 (the
-    /// 8-bit stencil count cannot wrap to 0), else runs whose bounds sum to at most 127,
-    /// each folded into the stencil's top bit before the next (`shadow_volume::pass`).
+    /// Batches the casters were counted in: 1 when their count bounds fit the count (at most
+    /// 255; 127 under the hybrid's stencil mask), else runs whose bounds fit a narrower count
+    /// (127; 63), each folded into one stencil bit before the next
+    /// (`shadow_volume/batches.rs`).
     pub count_batches: usize,
     /// CPU time to build every caster's volume (facing, silhouettes, caps) and, when
     /// `host_clipped`, to clip them.

@@ -363,10 +363,9 @@ impl HybridPass {
         b.bind(cx.rec);
         let (bits, host_clipped) = (count_bits(h.mask), h.volumes.host_clipped);
         let fold = if h.mask == MaskKind::Stencil { &self.fold_under_silhouette } else { &self.fold };
-        record_in_batches(cx.rec, cx.log, &h.volumes.casters, bits, fold, |rec, log, batch, batched| {
+        record_in_batches(cx.rec, cx.log, h.volumes, bits, fold, |rec, log, batch, batched| {
             self.bind_volumes(rec, h.mask, h.zfail, batched);
-            let casters: Vec<_> = batch.iter().collect();
-            b.draw_counting(rec, &casters, host_clipped, h.light as u32, log);
+            b.draw_counting(rec, batch.iter(), host_clipped, h.light as u32, log);
         });
         cx.rec.end_rendering();
     }

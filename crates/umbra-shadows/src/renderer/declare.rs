@@ -79,12 +79,12 @@ impl Renderer {
             stages.push(done);
         }
         for light in lights.iter_mut() {
-            if let Some(v) = &light.volumes {
-                let bits = match light.plan.technique {
+            if let Some(v) = light.volumes.as_mut() {
+                v.plan_batches(match light.plan.technique {
                     umbra_scene::Technique::Hybrid => crate::hybrid::pass::count_bits(self.mask),
                     _ => crate::shadow_volume::batches::FULL_STENCIL,
-                };
-                light.plan.shadow_volume = Some(v.report(scene, bits));
+                });
+                light.plan.shadow_volume = Some(v.report(scene));
             }
             light.culled_blockers = culling.culled(light.light());
             if let Some(n) = light.culled_blockers {

@@ -6,7 +6,7 @@
 //! batch's count ≠ 0" in a fold bit and clears the count: the count bits together are then
 //! non-zero exactly where some volume holds the pixel, which is all the visibility passes read.
 
-use super::build::CasterVolume;
+use super::build::{CasterVolume, LightVolumes};
 use crate::timing::PassLog;
 use std::ops::Range;
 use umbra_vk::{vk, DepthState, GraphicsPipeline, GraphicsPipelineDesc, Recorder, StencilFace};
@@ -85,26 +85,26 @@ pub(crate) fn fold_desc(
     desc
 }
 
-/// Records `casters` batch by batch (`count_batches`): `batch(rec, log, casters, batched)`
-/// draws one (with the batch pipelines when `batched`), and `fold` runs between two.
+/// Records `volumes` batch by batch (their planned `batches`, for the layout `bits`):
+/// `batch(rec, log, casters, batched)` draws one (with the batch pipelines when `batched`),
+/// and `fold` runs between two.
 pub(crate) fn record_in_batches<'a, 'c>(
     rec: &mut Recorder<'a>,
     log: &mut PassLog,
-    casters: &'c [CasterVolume],
+    volumes: &'c LightVolumes,
     bits: CountBits,
     fold: &'a GraphicsPipeline,
     mut batch: impl FnMut(&mut Recorder<'a>, &mut PassLog, &'c [CasterVolume], bool),
 ) {
-    let batches = count_batches(casters, bits);
-    let batched = batches.len() > 1;
-    for (k, range) in batches.into_iter().enumerate() {
+    let batched = volumes.batches.len() > 1;
+    for (k, range) in volumes.batches.iter().enumerate() {
         if k > 0 {
             rec.bind_pipeline(fold);
             rec.set_stencil_reference(u32::from(bits.fold));
             rec.draw(3);
             log.count_draw(1);
         }
-        batch(rec, log, &casters[range], batched);
+        batch(rec, log, volumes.casters.get(range.clone()).unwrap_or_default(), batched);
     }
 }
 

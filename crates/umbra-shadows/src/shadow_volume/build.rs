@@ -38,12 +38,20 @@ pub(crate) struct LightVolumes {
     pub cpu_ms: f64,
     /// The casters' ranges are in the host-clipped vertices (`clip.rs`).
     pub host_clipped: bool,
+    /// The batches the casters are counted in, as ranges of `casters` (`batches.rs`): all at
+    /// once until [`Self::plan_batches`] runs on the final casters.
+    pub batches: Vec<std::ops::Range<usize>>,
 }
 
 impl LightVolumes {
-    /// The report of these volumes (`volume_fragments` is filled in once counted), counted
-    /// with the stencil layout `bits`.
-    pub fn report(&self, scene: &Scene, bits: super::batches::CountBits) -> ShadowVolumeReport {
+    /// Plans the batches of the casters as they will be drawn (after blocker culling), for the
+    /// stencil layout `bits`.
+    pub fn plan_batches(&mut self, bits: super::batches::CountBits) {
+        self.batches = super::batches::count_batches(&self.casters, bits);
+    }
+
+    /// The report of these volumes (`volume_fragments` is filled in once counted).
+    pub fn report(&self, scene: &Scene) -> ShadowVolumeReport {
         let mode = |c: Counting| if c == Counting::ZPass { "zpass" } else { "zfail" };
         ShadowVolumeReport {
             casters: self.casters.len(),
@@ -52,7 +60,7 @@ impl LightVolumes {
             silhouette_edges: self.casters.iter().map(|c| c.stats.silhouette_edges).sum(),
             volume_triangles: self.casters.iter().map(|c| c.count as usize / 3).sum(),
             host_clipped: self.host_clipped,
-            count_batches: super::batches::count_batches(&self.casters, bits).len(),
+            count_batches: self.batches.len(),
             cpu_build_ms: self.cpu_ms,
             volume_fragments: None,
             caster_modes: self
@@ -127,7 +135,8 @@ pub(crate) fn build_light(
         });
         vertices.extend(verts);
     }
-    LightVolumes { casters, cpu_ms: started.elapsed().as_secs_f64() * 1e3, host_clipped: false }
+    let batches = std::iter::once(0..casters.len()).collect();
+    LightVolumes { casters, cpu_ms: started.elapsed().as_secs_f64() * 1e3, host_clipped: false, batches }
 }
 
 /// The near-plane clip region of §3.4: the convex hull of the camera's near rectangle and the

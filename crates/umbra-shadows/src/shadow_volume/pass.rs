@@ -102,7 +102,7 @@ impl<'a> VolumeBindings<'a> {
     pub fn draw_counting<'c>(
         &self,
         rec: &mut Recorder<'a>,
-        casters: &[&'c CasterVolume],
+        casters: impl Iterator<Item = &'c CasterVolume> + Clone,
         host_clipped: bool,
         light: u32,
         log: &mut PassLog,
@@ -111,13 +111,13 @@ impl<'a> VolumeBindings<'a> {
             rec.set_depth_bias(0.0, 0.0, 0.0);
         }
         let ranges = |cut: bool| {
-            casters.iter().map(move |c| match cut {
+            casters.clone().map(move |c| match cut {
                 false => (c.object, c.first, c.count - c.cut_caps),
                 true => (c.object, c.first + c.count - c.cut_caps, c.cut_caps),
             })
         };
         self.draw_ranges(rec, ranges(false), light, log);
-        if casters.iter().any(|c| c.cut_caps > 0) {
+        if casters.clone().any(|c| c.cut_caps > 0) {
             rec.set_depth_bias(CUT_CAP_BIAS.0, 0.0, CUT_CAP_BIAS.1);
             self.draw_ranges(rec, ranges(true), light, log);
         }
@@ -227,10 +227,10 @@ impl ShadowVolumePass {
         log: &mut PassLog,
     ) {
         b.bind(rec);
-        record_in_batches(rec, log, &volumes.casters, FULL_STENCIL, &self.fold, |rec, log, batch, batched| {
+        record_in_batches(rec, log, volumes, FULL_STENCIL, &self.fold, |rec, log, batch, batched| {
             for counting in [Counting::ZFail, Counting::ZPass] {
-                let casters: Vec<_> = batch.iter().filter(|c| c.counting == counting).collect();
-                if casters.is_empty() {
+                let casters = batch.iter().filter(move |c| c.counting == counting);
+                if casters.clone().next().is_none() {
                     continue;
                 }
                 let pipeline = match (counting, batched) {
@@ -241,7 +241,7 @@ impl ShadowVolumePass {
                 };
                 pipeline.bind(rec, bounds);
                 rec.set_stencil_reference(0);
-                b.draw_counting(rec, &casters, volumes.host_clipped, light, log);
+                b.draw_counting(rec, casters, volumes.host_clipped, light, log);
             }
         });
     }
