@@ -18,8 +18,8 @@ cargo build --release --locked -p umbra-bench
 # SwiftShader runs about six times slower than lavapipe here: it gets a smaller sweep.
 sweep_args() {
     case "$1" in
-        swiftshader) echo "--scenes cubes,cylinder,spot.glb --sm-sizes 512,2048 --filters pcf2x2 --masks depth-bounds,stencil --frames 3 --warmup 1" ;;
-        *) echo "--scenes cubes,cage,tree,cylinder,spot.glb --sm-sizes 256,512,1024,2048 --filters nearest,pcf2x2 --masks depth-bounds,stencil,none --frames 5 --warmup 2" ;;
+        swiftshader) echo "--scenes cubes,cage,tree,cylinder,spot.glb,suzanne.glb --sm-sizes 64,512,2048 --filters pcf2x2 --masks depth-bounds --frames 3 --warmup 1" ;;
+        *) echo "--scenes cubes,cage,tree,cylinder,spot.glb,suzanne.glb --sm-sizes 64,256,512,1024,2048 --filters nearest,pcf2x2 --masks depth-bounds,stencil,none --frames 5 --warmup 2" ;;
     esac
 }
 

@@ -72,21 +72,14 @@ fn load(name: &str) -> Scene {
     }
 }
 
-/// Differing pixels allowed against full z-fail volumes, as a fraction of the image: where the
-/// default coarse map (128² for 256×192) misses a feature narrower than a texel, every one of
-/// its 2×2 comparisons agrees, the pixel is never a silhouette pixel, and the map's answer
-/// stands (Chan–Durand §5.1). 0.5% for solid casters; 1.5% for the tree, whose twigs are
-/// thinner than a texel. Measured figures are in docs/techniques/hybrid.md.
-fn equivalence_bound(scene: &str) -> f64 {
-    if scene == "tree" {
-        0.015
-    } else {
-        0.005
-    }
-}
+/// Differing pixels allowed against full z-fail volumes, as a fraction of the image: the
+/// conservative classification leaves the map nothing it could get wrong (0 pixels measured on
+/// every scene here, both drivers, at 256×192); 0.01% of the image, the sweep's acceptance
+/// margin. Measured figures are in docs/techniques/hybrid.md.
+const EQUIVALENCE_BOUND: f64 = 1e-4;
 
 #[test]
-fn matches_full_zfail_shadow_volumes_but_for_features_below_a_texel() {
+fn matches_full_zfail_shadow_volumes_even_for_features_below_a_texel() {
     common::with_context(|ctx| {
         let mut failures = Vec::new();
         for name in ["cubes", "cage", "tree", "spot.glb"] {
@@ -98,9 +91,9 @@ fn matches_full_zfail_shadow_volumes_but_for_features_below_a_texel() {
             let n = diff.iter().filter(|&&d| d).count();
             let fraction = n as f64 / (W * H) as f64;
             let report = hybrid.report.lights[0].hybrid.as_ref().expect("hybrid report");
-            let bound = equivalence_bound(name);
+            let bound = EQUIVALENCE_BOUND;
             println!(
-                "{name}: mask {}, P = {:.2}%, {n} pixels differ from full z-fail ({:.3}%, bound {:.1}%)",
+                "{name}: mask {}, P = {:.2}%, {n} pixels differ from full z-fail ({:.3}%, bound {:.2}%)",
                 report.mask.name(),
                 100.0 * report.silhouette_fraction,
                 100.0 * fraction,
@@ -156,7 +149,9 @@ fn the_mask_keeps_stencil_updates_to_silhouette_pixels() {
             "non-zero stencil outside the silhouette set at {:?}",
             &stray[..stray.len().min(8)]
         );
-        assert!(masked * 4 < o, "masked volume fragments {masked} are not < 25% of {o}");
+        // The conservative classification marks more pixels than the 2×2 PCF test did (P 37.5%
+        // on cubes at 256×192, 13.8% before): 54.1% of the fragments pass the mask there.
+        assert!(masked * 3 < o * 2, "masked volume fragments {masked} are not < 2/3 of {o}");
     });
 }
 
@@ -337,5 +332,28 @@ fn counts_never_alias_under_any_mask() {
                 assert_eq!(batches > 1, n + 1 > all_bits, "{n} slabs, {} mask: batching", mask.name());
             }
         }
+    });
+}
+
+/// The bounds need no conservative rasterization (`VK_EXT_conservative_rasterization`): every
+/// triangle is tested against every texel's square in the fragment stage. The capability is
+/// probed all the same, and neither CPU driver offers it: the hybrid's exactness above was
+/// measured without it.
+#[test]
+fn the_bounds_need_no_conservative_rasterization() {
+    common::with_context(|ctx| {
+        let caps = ctx.capabilities();
+        println!("{}: VK_EXT_conservative_rasterization {}", caps.device_name, caps.conservative_rasterization);
+        if is_swiftshader(ctx) || caps.device_name.contains("llvmpipe") {
+            assert!(
+                !caps.conservative_rasterization,
+                "{}: the CPU drivers have no conservative rasterization",
+                caps.device_name
+            );
+        }
+        let scene = with_technique(&load("cubes"), Technique::Hybrid);
+        let frame = renderer(ctx, None, |_| {}).render(&scene).expect("hybrid frame");
+        let passes: Vec<&str> = frame.report.passes.iter().map(|p| p.name.as_str()).collect();
+        assert!(passes.contains(&"hybrid bounds 0"), "{passes:?}");
     });
 }

@@ -2,7 +2,7 @@
 
 use crate::{BenchError, BenchResult};
 use std::path::PathBuf;
-use umbra_conformance::{report, run_case_with, CaseRun, HybridRule, CASES};
+use umbra_conformance::{report, run_case, CaseRun, CASES};
 use umbra_vk::{Context, ContextOptions};
 
 /// Flags of `hard-cases`.
@@ -21,19 +21,6 @@ pub struct HardCasesArgs {
     /// Output folder: `hard-cases.md`, `images/hard-cases/*.png`, `results/hard-cases.json`.
     #[arg(long, default_value = "docs")]
     out: PathBuf,
-    /// Which rule judges the hybrid: `map` (the volume rule on its silhouette pixels, the map
-    /// rule elsewhere: the suite's) or `volumes` (the volume rule everywhere: how far it is
-    /// from shadow-volume accuracy).
-    #[arg(long, default_value = "map", value_parser = parse_hybrid_rule)]
-    hybrid_rule: HybridRule,
-}
-
-fn parse_hybrid_rule(s: &str) -> Result<HybridRule, String> {
-    match s {
-        "map" => Ok(HybridRule::MapOutsideSilhouettes),
-        "volumes" => Ok(HybridRule::Volumes),
-        _ => Err(format!("`{s}`: expected `map` or `volumes`")),
-    }
 }
 
 /// Runs every case on every device (validation layer on) and writes the outputs; fails when
@@ -51,7 +38,7 @@ pub fn run(args: &HardCasesArgs) -> BenchResult<()> {
         let name = ctx.capabilities().device_name.clone();
         let mut runs = Vec::new();
         for case in CASES {
-            let run = run_case_with(&ctx, &args.cases, case, args.size, args.hybrid_rule)?;
+            let run = run_case(&ctx, &args.cases, case, args.size)?;
             log::info!("{name}: {} {}", run.case, if run.ok() { "conformant" } else { "FAILED" });
             if !run.ok() {
                 problems.push(format!("{} on {name}", run.case));

@@ -52,7 +52,7 @@ use glam::{Vec3, Vec4};
 use serde::Serialize;
 use umbra_reference::{edge_distance, shadow_blockers, shadow_state, SceneBvh, ShadowMask, Surface, SurfaceImage};
 use umbra_scene::{Light, Scene, Technique};
-use umbra_shadows::{Frame, PixelClass, ShadowMapReport};
+use umbra_shadows::{Frame, ShadowMapReport};
 
 /// Half-width of a map technique's tolerance band, in shadow-map texels: 2×2 PCF blends the
 /// texels on both sides of an edge (one texel), and the slope-scaled bias and normal offset
@@ -64,18 +64,6 @@ pub const EDGE_ON: f32 = 1e-3;
 
 /// Unexplained pixels listed in [`Judgement::unexplained_at`].
 pub const SHOWN: usize = 12;
-
-/// Which rule judges the hybrid's pixels.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum HybridRule {
-    /// The volume rule on its silhouette pixels, the map rule elsewhere (what it promises
-    /// today, and what the suite holds it to).
-    #[default]
-    MapOutsideSilhouettes,
-    /// The volume rule everywhere (`umbra-bench hard-cases --hybrid-rule volumes`): how far the
-    /// hybrid is from shadow-volume accuracy, the goal of #23.
-    Volumes,
-}
 
 /// Fewest decided pixels a light must give for its case to test anything.
 pub const MIN_COMPARED: u64 = 500;
@@ -134,15 +122,16 @@ impl Judgement {
 
 /// Judges every light of `frame` (rendered from `scene`, whose lights all use `technique`,
 /// with diagnostics, the visibility readback and a G-buffer, on a device with
-/// `sub_pixel_precision_bits`), the hybrid by `hybrid_rule`; returns the judgement and, per
-/// light, the technique's and the true mask.
+/// `sub_pixel_precision_bits`); returns the judgement and, per light, the technique's and the
+/// true mask. Shadow volumes and the hybrid are held to the volume rule on every pixel (the
+/// hybrid promises shadow-volume accuracy: its map decides only where it cannot be wrong),
+/// shadow and silhouette maps to the map rule.
 pub fn judge(
     scene: &Scene,
     bvh: &SceneBvh,
     frame: &Frame,
     technique: Technique,
     sub_pixel_precision_bits: u32,
-    hybrid_rule: HybridRule,
 ) -> ConformanceResult<(Judgement, Vec<(ShadowMask, ShadowMask)>)> {
     let snap = Snap {
         view_proj: scene.camera.view_proj(frame.width as f32 / frame.height as f32),
@@ -185,9 +174,7 @@ pub fn judge(
                 j.seam += 1;
                 continue;
             }
-            let class = PixelClass::decode(pixel(&d.classification, i));
-            let by_volume = technique == Technique::ShadowVolume
-                || (technique == Technique::Hybrid && (hybrid_rule == HybridRule::Volumes || class.is_silhouette()));
+            let by_volume = matches!(technique, Technique::ShadowVolume | Technique::Hybrid);
             if by_volume && surface.is_some_and(|s| snapping_explains(light, bvh, &snap, s, r)) {
                 j.snapping += 1;
                 continue;
@@ -265,11 +252,6 @@ fn snapping_explains(light: &Light, bvh: &SceneBvh, snap: &Snap, s: &Surface, tr
 
 fn missing(what: &str) -> ConformanceError {
     ConformanceError::Incomplete(format!("the frame has no {what} (render with diagnostics and gbuffer on)"))
-}
-
-fn pixel(rgba: &[u8], i: usize) -> [u8; 4] {
-    let p = rgba.get(i * 4..i * 4 + 4).unwrap_or(&[0; 4]);
-    [p[0], p[1], p[2], p[3]]
 }
 
 /// Whether a shadow map's tolerance explains a wrong pixel at `s` (`truth` is its true state):

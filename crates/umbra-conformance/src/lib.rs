@@ -31,5 +31,5 @@ pub mod run;
 
 pub use cases::{case, Case, Expect, Outcome, CASES, TECHNIQUES};
 pub use error::{ConformanceError, ConformanceResult};
-pub use judge::{HybridRule, Judgement, TEXEL_BAND};
-pub use run::{case_path, run_case, run_case_with, CaseRun, Judged, TechniqueRun, Verdict};
+pub use judge::{Judgement, TEXEL_BAND};
+pub use run::{case_path, run_case, CaseRun, TechniqueRun, Verdict};

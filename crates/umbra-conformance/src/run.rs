@@ -2,7 +2,7 @@
 //! determinism), check the read-backs for NaN, and judge each technique's masks.
 
 use crate::cases::{Case, Expect, Outcome, TECHNIQUES};
-use crate::judge::{judge, HybridRule, Judgement};
+use crate::judge::{judge, Judgement};
 use crate::{ConformanceError, ConformanceResult};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -112,20 +112,8 @@ fn header_title(path: &Path) -> Option<String> {
     Some(title.trim_end_matches('.').to_owned())
 }
 
-/// Runs `case` (scene file in `dir`) with every technique at `size` on `ctx`, the hybrid judged
-/// by [`HybridRule::MapOutsideSilhouettes`].
+/// Runs `case` (scene file in `dir`) with every technique at `size` on `ctx`.
 pub fn run_case(ctx: &Context, dir: &Path, case: &Case, size: (u32, u32)) -> ConformanceResult<CaseRun> {
-    run_case_with(ctx, dir, case, size, HybridRule::default())
-}
-
-/// [`run_case`] with the hybrid judged by `hybrid_rule`.
-pub fn run_case_with(
-    ctx: &Context,
-    dir: &Path,
-    case: &Case,
-    size: (u32, u32),
-    hybrid_rule: HybridRule,
-) -> ConformanceResult<CaseRun> {
     let path = case_path(dir, case);
     let loaded = umbra_scene::load_scene_file(&path);
     let mut run = CaseRun {
@@ -153,34 +141,23 @@ pub fn run_case_with(
             let bvh = SceneBvh::build(&scene);
             for technique in TECHNIQUES {
                 let expect = case.expect(technique).unwrap_or(Expect::Strict);
-                let judged = Judged { technique, expect, hybrid_rule };
-                run.techniques.push(run_technique(ctx, &scene, &bvh, judged, size)?);
+                run.techniques.push(run_technique(ctx, &scene, &bvh, technique, expect, size)?);
             }
         }
     }
     Ok(run)
 }
 
-/// What one technique is judged by: its expectation and, for the hybrid, the rule.
-#[derive(Clone, Copy, Debug)]
-pub struct Judged {
-    /// The technique every light switches to.
-    pub technique: Technique,
-    /// What it must achieve.
-    pub expect: Expect,
-    /// Which rule judges the hybrid.
-    pub hybrid_rule: HybridRule,
-}
-
-/// Renders `scene` with every light on `judged.technique`, twice, and judges the second frame.
+/// Renders `scene` with every light on `technique`, twice, and judges the second frame by
+/// `expect`.
 pub fn run_technique(
     ctx: &Context,
     scene: &Scene,
     bvh: &SceneBvh,
-    judged: Judged,
+    technique: Technique,
+    expect: Expect,
     size: (u32, u32),
 ) -> ConformanceResult<TechniqueRun> {
-    let Judged { technique, expect, hybrid_rule } = judged;
     let mut scene = scene.clone();
     let mut notes = Vec::new();
     for l in &mut scene.lights {
@@ -225,7 +202,7 @@ pub fn run_technique(
         .gbuffer
         .as_ref()
         .is_some_and(|g| g.position.iter().chain(&g.normal).all(|v| v.iter().all(|c| c.is_finite())));
-    let (j, masks) = judge(&scene, bvh, &second, technique, ctx.capabilities().sub_pixel_precision_bits, hybrid_rule)?;
+    let (j, masks) = judge(&scene, bvh, &second, technique, ctx.capabilities().sub_pixel_precision_bits)?;
     if let Some((mask, truth)) = masks.first() {
         out.error_rgba = error_image(mask, truth);
     }

@@ -326,10 +326,15 @@ impl GpuScene {
                     &[
                         (
                             "scene vertices",
-                            vk::BufferUsageFlags::VERTEX_BUFFER,
+                            // Storage too: the hybrid's bounds pull whole triangles.
+                            vk::BufferUsageFlags::VERTEX_BUFFER | vk::BufferUsageFlags::STORAGE_BUFFER,
                             nonempty(bytemuck::cast_slice(&vertices)),
                         ),
-                        ("scene indices", vk::BufferUsageFlags::INDEX_BUFFER, nonempty(bytemuck::cast_slice(&indices))),
+                        (
+                            "scene indices",
+                            vk::BufferUsageFlags::INDEX_BUFFER | vk::BufferUsageFlags::STORAGE_BUFFER,
+                            nonempty(bytemuck::cast_slice(&indices)),
+                        ),
                     ],
                 )?
                 .into_iter();

@@ -201,8 +201,9 @@ pub struct HybridReport {
     pub mask: MaskKind,
     /// The lower depth bound with `depth-bounds` (the upper is 1).
     pub depth_bounds_epsilon: Option<f32>,
-    /// Pixels whose hardware-PCF result lay strictly between 0 and 1 on a surface facing the
-    /// light: the only pixels the volumes decide (an occlusion query on the mask pass).
+    /// Pixels facing the light that its depth bounds could not decide (neither certainly lit
+    /// nor certainly shadowed): the only pixels the volumes decide (an occlusion query on the
+    /// mask pass).
     pub silhouette_pixels: u64,
     /// `silhouette_pixels` over the image's pixel count (P).
     pub silhouette_fraction: f64,

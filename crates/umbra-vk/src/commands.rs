@@ -377,6 +377,13 @@ impl<'a> Recorder<'a> {
         unsafe { self.device().cmd_draw(self.cmd, count, instances, 0, first_instance) };
     }
 
+    /// Draws `count` vertices from vertex `first` as one instance numbered `instance`
+    /// (`gl_InstanceIndex`): for shaders that pull their vertices from storage buffers.
+    pub fn draw_range_as_instance(&mut self, count: u32, first: u32, instance: u32) {
+        // SAFETY: recording inside a rendering pass with a bound pipeline.
+        unsafe { self.device().cmd_draw(self.cmd, count, 1, first, instance) };
+    }
+
     /// Draws `count` indices from `first_index`, adding `vertex_offset` to each.
     pub fn draw_indexed(&mut self, count: u32, first_index: u32, vertex_offset: i32) {
         // SAFETY: recording inside a rendering pass with bound pipeline and buffers.

@@ -26,8 +26,10 @@ pub enum PassId {
     MapVisibility(usize),
     /// The additive lighting of a light, times its visibility image.
     Light(usize, LightKind),
-    /// Chan–Durand §3 step 2: classify every visible pixel; the map decides the visibility of
-    /// all but the silhouette pixels.
+    /// The hybrid's conservative depth bounds from the light (its classification reads them).
+    HybridBounds(usize),
+    /// Chan–Durand §3 step 2: classify every visible pixel; the depth bounds decide the
+    /// visibility of all but the silhouette pixels.
     HybridClassify(usize),
     /// Chan–Durand §4: the computation mask.
     ComputationMask(usize),
@@ -65,6 +67,7 @@ impl PassId {
             PassId::StencilVisibility(l) => format!("visibility {l} (stencil)"),
             PassId::MapVisibility(l) => format!("visibility {l}"),
             PassId::Light(l, kind) => format!("light {l} ({kind:?})").to_lowercase(),
+            PassId::HybridBounds(l) => format!("hybrid bounds {l}"),
             PassId::HybridClassify(l) => format!("hybrid classify {l}"),
             PassId::ComputationMask(l) => format!("computation mask {l}"),
             PassId::HybridVolumes(l) => format!("hybrid volumes {l}"),
@@ -89,6 +92,7 @@ impl PassId {
             | PassId::StencilVisibility(l)
             | PassId::MapVisibility(l)
             | PassId::Light(l, _)
+            | PassId::HybridBounds(l)
             | PassId::HybridClassify(l)
             | PassId::ComputationMask(l)
             | PassId::HybridVolumes(l)
@@ -133,6 +137,7 @@ mod tests {
                 PassId::StencilVisibility(l),
                 PassId::MapVisibility(l),
                 PassId::Light(l, LightKind::Spot),
+                PassId::HybridBounds(l),
                 PassId::HybridClassify(l),
                 PassId::ComputationMask(l),
                 PassId::HybridVolumes(l),

@@ -16,7 +16,8 @@ pub(crate) struct HybridQueries {
     pub fragments: Option<QueryId>,
 }
 
-/// Declares light `h.light`'s passes after its shadow map `map`; `h.mask_query` is set here.
+/// Declares light `h.light`'s passes after its shadow map `map` and depth bounds `bounds`;
+/// `h.mask_query` is set here.
 /// `fragments`: count the masked volume fragments (`overdraw`); `readback`: copy the classes
 /// and the stencil out (diagnostics).
 pub(crate) fn declare_light<'a>(
@@ -24,6 +25,7 @@ pub(crate) fn declare_light<'a>(
     pass: &'a HybridPass,
     mut h: HybridLight<'a>,
     map: &'a Image,
+    bounds: &'a Image,
     fragments: bool,
     readback: Option<&'a ClassReadback>,
 ) -> HybridQueries {
@@ -36,7 +38,8 @@ pub(crate) fn declare_light<'a>(
     let l = h.light;
 
     let classify = [Use::Image(h.visibility, Color), Use::Image(classes, Color), Use::Image(h.depth, Depth)];
-    stage.pass(PassId::HybridClassify(l), &[&classify[..], &[Use::Image(map, Read)]].concat(), move |cx| {
+    let reads = [Use::Image(map, Read), Use::Image(bounds, Read)];
+    stage.pass(PassId::HybridClassify(l), &[&classify[..], &reads].concat(), move |cx| {
         pass.record_classify(cx, &h);
         Ok(())
     });

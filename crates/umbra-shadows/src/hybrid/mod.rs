@@ -4,10 +4,12 @@
 //!
 //! Per light, top to bottom (declared in `frame.rs`, recorded in `pass.rs`):
 //! 1. a shadow map (the shadow-map module's pass), by default below the image's resolution;
-//!    blocker culling (§6.3, `cull.rs`) may then drop casters no map texel sees;
-//! 2. `hybrid classify`: over the frame's depth, one hardware 2×2 PCF fetch per pixel; a result
-//!    strictly between 0 and 1 on a surface facing the light marks a *silhouette pixel*
-//!    (Fig. 4); every other pixel is shaded from the map right there;
+//!    blocker culling (§6.3, `cull.rs`) may then drop casters no map texel sees; and
+//!    `hybrid bounds` (`bounds.rs`): per texel, the least depth any occluder can have over the
+//!    texel and the greatest depth of a triangle that covers all of it;
+//! 2. `hybrid classify`: over the frame's depth, a pixel facing the light is decided from the
+//!    bounds only where they cannot be wrong (certainly lit, certainly shadowed); every other
+//!    one is a *silhouette pixel* (Fig. 4, made conservative);
 //! 3. `computation mask` (§4): with `depth-bounds`, the frame's depth is copied and a
 //!    full-screen pass writes depth 0 at every non-silhouette pixel; with `stencil`, it sets the
 //!    stencil's high bit at silhouette pixels instead;
@@ -16,6 +18,7 @@
 //!    discard volume fragments before any stencil update;
 //! 5. `light N silhouettes`: silhouette pixels lit where their count is zero.
 
+pub(crate) mod bounds;
 pub(crate) mod cull;
 pub(crate) mod frame;
 pub(crate) mod pass;

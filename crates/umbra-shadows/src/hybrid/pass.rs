@@ -4,13 +4,14 @@
 //! from their counts), plus blocker culling (§6.3) and the diagnostic readbacks. The light's
 //! lighting pass then reads the visibility image like every other technique's. `hybrid::frame` declares them, with the images each uses.
 
+use super::bounds::BoundsPass;
 use super::cull::BOX_VERTICES;
 use super::settings::{MaskKind, COUNT_BITS, DEPTH_BOUNDS_EPSILON, SILHOUETTE_BIT};
 use crate::diagnostics::ClassReadback;
 use crate::forward;
 use crate::frame::{PassRecorder, QueryId};
 use crate::gpu_scene::{DrawPush, GpuScene};
-use crate::shadow_map::{self, ShadowFilter, ShadowMapSettings};
+use crate::shadow_map::{self, ShadowMapSettings};
 use crate::shadow_volume::batches::{counting_in_batch, fold_desc, record_in_batches, CountBits, FULL_STENCIL};
 use crate::shadow_volume::build::LightVolumes;
 use crate::shadow_volume::pass::{self as volume_pass, VolumeBindings};
@@ -18,8 +19,9 @@ use crate::visibility::VISIBILITY_FORMAT;
 use crate::RenderResult;
 use umbra_scene::Scene;
 use umbra_vk::{
-    vk, Buffer, ColorAttachment, ColorTarget, Context, DepthAttachment, DepthState, DescriptorSet, GraphicsPipeline,
-    GraphicsPipelineDesc, Image, ImageDesc, ImageState, PipelineLayout, Recorder, RenderTargets, StencilFace,
+    vk, Buffer, ColorAttachment, ColorTarget, Context, DepthAttachment, DepthState, DescriptorSet, DescriptorSetLayout,
+    GraphicsPipeline, GraphicsPipelineDesc, Image, ImageDesc, ImageState, PipelineLayout, Recorder, RenderTargets,
+    StencilFace,
 };
 
 /// The frame-sized images of the hybrid, reused by every hybrid light of a frame.
@@ -68,6 +70,8 @@ pub(crate) struct HybridPass {
     fragments_stencil: GraphicsPipeline,
     /// Blocker culling: bounding boxes against the shadow map.
     boxes: GraphicsPipeline,
+    /// The conservative depth bounds the classification reads (`hybrid bounds N`).
+    pub bounds: BoundsPass,
     depth_format: vk::Format,
     targets: Option<Targets>,
 }
@@ -129,13 +133,14 @@ impl HybridPass {
         ctx: &Context,
         layout: &PipelineLayout,
         depth_format: vk::Format,
+        scene_set_layout: &DescriptorSetLayout,
         shadow: &ShadowMapSettings,
         clamp: bool,
         input: volume_pass::VolumeInput,
     ) -> RenderResult<Self> {
         let caps = ctx.capabilities();
-        // Step 2: one hardware-PCF fetch, whatever filter plain shadow maps use.
-        let spec = forward::shadow_spec(&ShadowMapSettings { filter: ShadowFilter::Pcf2x2, ..*shadow });
+        // Step 2: the bounds (hybrid/bounds_lookup.glsl), outside the frustum as maps are.
+        let spec = [(1, u32::from(shadow.outside_lit))];
         let mut desc =
             forward::surface_pass_desc("hybrid classify", umbra_shaders::hybrid::CLASSIFY_FRAG, depth_format, &spec);
         let targets = [ColorTarget::opaque(VISIBILITY_FORMAT), ColorTarget::opaque(crate::COLOR_FORMAT)];
@@ -243,6 +248,7 @@ impl HybridPass {
             fragments_depth_bounds,
             fragments_stencil,
             boxes,
+            bounds: BoundsPass::new(ctx, scene_set_layout)?,
             depth_format,
             targets: None,
         })
@@ -312,8 +318,9 @@ impl HybridPass {
         }
     }
 
-    /// Step 2 (the visibility image and classes in ColorAttachment, the map readable): classify
-    /// every visible pixel; the map decides the visibility of all but the silhouette pixels.
+    /// Step 2 (the visibility image and classes in ColorAttachment, the bounds readable):
+    /// classify every visible pixel; the bounds decide the visibility of all but the silhouette
+    /// pixels.
     pub fn record_classify<'a>(&'a self, cx: &mut PassRecorder<'_, 'a>, h: &HybridLight<'a>) {
         let Some(classes) = self.classes() else { return };
         let color = [
@@ -470,7 +477,7 @@ pub(crate) struct HybridLight<'a> {
     pub layout: &'a PipelineLayout,
     pub gpu: &'a GpuScene,
     pub scene: &'a Scene,
-    /// Set 1: its map through the hardware-PCF sampler, the classes image at binding 3.
+    /// Set 1: its map, the classes image at binding 3, its depth bounds at binding 4.
     pub shadow_set: &'a DescriptorSet,
     /// The visibility image and the frame's depth/stencil, as attachments.
     pub visibility: &'a Image,

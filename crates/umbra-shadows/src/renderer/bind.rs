@@ -30,16 +30,16 @@ impl Renderer {
                 (true, Some(classes)) => classes,
                 _ => self.silhouette_map.image(light.edges.map(|_| l)),
             };
-            let set =
-                self.shadow_map.descriptor_set(&mut self.sets, layout, has_map, light.hybrid(), technique_image)?;
+            let bounds = self.hybrid.bounds.image(light.hybrid().then_some(l));
+            let set = self.shadow_map.descriptor_set(&mut self.sets, layout, has_map, technique_image, bounds)?;
             out.shadow_set = Some(set);
         }
         if light.edges.is_some() {
             // Pass 2 reads the depth map raw while it writes the silhouette map, which its set
             // must not bind: the placeholder stands in.
-            let placeholder = self.silhouette_map.image(None);
+            let (placeholder, bounds) = (self.silhouette_map.image(None), self.hybrid.bounds.image(None));
             out.depth_set =
-                Some(self.shadow_map.descriptor_set(&mut self.sets, layout, Some(l), false, placeholder)?);
+                Some(self.shadow_map.descriptor_set(&mut self.sets, layout, Some(l), placeholder, bounds)?);
         }
         self.keep_readbacks(light)?;
         Ok(out)

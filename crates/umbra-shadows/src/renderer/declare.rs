@@ -121,6 +121,13 @@ impl Renderer {
                     cx.log,
                 )
             });
+            if light.hybrid() {
+                let bounds = self.hybrid.bounds.image(Some(l));
+                stage.pass(PassId::HybridBounds(l), &[Use::Image(bounds, Depth)], move |cx| {
+                    self.hybrid.bounds.record(cx, f.gpu, f.scene, l, &map.views);
+                    Ok(())
+                });
+            }
             let (Some(e), Some(depth_set)) = (light.edges, &f.bindings[l].depth_set) else { continue };
             let target = self.silhouette_map.image(Some(l));
             stage.pass(PassId::SilhouetteMap(l), &[Use::Image(target, Color), Use::Image(image, Read)], move |cx| {
@@ -273,9 +280,9 @@ impl Renderer {
             zfail: self.shadow_volume.zfail(),
             mask_query: QueryId(0),
         };
-        let map = self.shadow_map.image(l)?;
+        let (map, bounds) = (self.shadow_map.image(l)?, self.hybrid.bounds.image(Some(l)));
         let readback = f.bindings[l].class_readback;
-        Ok(hybrid_frame::declare_light(stage, &self.hybrid, h, map, self.overdraw.is_some(), readback))
+        Ok(hybrid_frame::declare_light(stage, &self.hybrid, h, map, bounds, self.overdraw.is_some(), readback))
     }
 
     /// The images a light's lighting passes sample: its shadow map and silhouette map.

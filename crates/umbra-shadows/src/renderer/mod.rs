@@ -120,7 +120,8 @@ impl Renderer {
             ShadowVolumePass::new(ctx, &layout, depth_format, &desc.shadow_volume, bounds, volume_input)?;
         let silhouette_map = SilhouetteMapPass::new(ctx, &layout, COLOR_FORMAT, depth_format, &desc.shadow_map)?;
         let clamp = desc.shadow_volume.far_plane == FarPlane::DepthClamp;
-        let hybrid = HybridPass::new(ctx, &layout, depth_format, &desc.shadow_map, clamp, volume_input)?;
+        let hybrid =
+            HybridPass::new(ctx, &layout, depth_format, &scene_set_layout, &desc.shadow_map, clamp, volume_input)?;
         let (width, height, shadow) = (desc.width, desc.height, &desc.shadow_map);
         let visibility =
             VisibilityPass::new(ctx, &layout, visibility_set_layout, depth_format, shadow, width, height, bounds)?;
@@ -212,7 +213,7 @@ impl Renderer {
         self.prepare_volumes(scene, &view, &adjacency, &mut lights, &mut streams)?;
         let culling = self.plan_culling(scene, &view, &lights, &mut streams)?;
         // 4. Upload what changed; bind each light's maps; make the readbacks.
-        let gpu = self.upload(scene, &view, &lights, &shadow_views)?;
+        let gpu = self.upload(scene, &view, &adjacency, &lights, &shadow_views)?;
         let sets = self.bind(&lights)?;
         // 5. Declare the passes and run them: one submission, two with blocker culling. The
         //    readback is poisoned first so that a copy that never happened cannot pass for a frame.

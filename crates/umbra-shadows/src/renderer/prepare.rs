@@ -281,6 +281,7 @@ impl Renderer {
         &mut self,
         scene: &Scene,
         view: &FrameView,
+        adjacency: &[Arc<Adjacency>],
         lights: &[LightFrame],
         shadow_views: &[Mat4],
     ) -> RenderResult<GpuScene> {
@@ -288,9 +289,16 @@ impl Renderer {
             let masked_depth = self.mask == MaskKind::DepthBounds;
             self.hybrid.prepare(&self.ctx, self.desc.width, self.desc.height, masked_depth)?;
         }
+        let keep: Vec<bool> = lights.iter().map(LightFrame::hybrid).collect();
+        self.hybrid.bounds.keep_only(&keep);
+        for light in lights.iter().filter(|l| l.hybrid()) {
+            if let Some(map) = &light.map {
+                self.hybrid.bounds.prepare(&self.ctx, light.light(), map.resolution, map.views.kind)?;
+            }
+        }
         let shadows: Vec<GpuShadow> =
             lights.iter().map(|l| l.map.as_ref().map_or_else(GpuShadow::default, |m| m.shadow)).collect();
-        GpuScene::upload(
+        let gpu = GpuScene::upload(
             &self.ctx,
             &self.scene_set_layout,
             scene,
@@ -299,7 +307,11 @@ impl Renderer {
             &shadows,
             shadow_views,
             self.gpu.take(),
-        )
+        )?;
+        if lights.iter().any(LightFrame::hybrid) {
+            self.hybrid.bounds.bind_geometry(&self.ctx, &gpu, adjacency)?;
+        }
+        Ok(gpu)
     }
 }
 

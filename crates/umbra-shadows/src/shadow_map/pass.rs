@@ -39,9 +39,6 @@ pub(crate) struct ShadowMapPass {
     settings: ShadowMapSettings,
     pipeline: GraphicsPipeline,
     sampler: Sampler,
-    /// LINEAR comparison: hardware 2×2 PCF whatever the filter setting (the hybrid's
-    /// silhouette-pixel test).
-    pcf_sampler: Sampler,
     /// Nearest, no comparison: raw depth and silhouette points.
     raw_sampler: Sampler,
     placeholder_2d: Image,
@@ -50,12 +47,12 @@ pub(crate) struct ShadowMapPass {
 }
 
 /// Set 1 of the lighting pass, for the light being drawn: 0 its 2D map and 1 its cube map
-/// (comparison sampler), 2 its 2D map read raw, 3 its silhouette map (both nearest, no
-/// comparison). Lights without one bind placeholders.
+/// (comparison sampler), 2 its 2D map read raw, 3 its silhouette map, 4 the hybrid's depth
+/// bounds (all three nearest, no comparison). Lights without one bind placeholders.
 pub(crate) fn shadow_set_layout(ctx: &Context) -> RenderResult<DescriptorSetLayout> {
     let ty = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
     let stages = vk::ShaderStageFlags::FRAGMENT;
-    let bindings: Vec<Binding> = (0..4).map(|binding| Binding { binding, ty, stages }).collect();
+    let bindings: Vec<Binding> = (0..5).map(|binding| Binding { binding, ty, stages }).collect();
     Ok(DescriptorSetLayout::new(ctx, "shadow set layout", &bindings)?)
 }
 
@@ -86,15 +83,6 @@ impl ShadowMapPass {
                 compare: Some(vk::CompareOp::LESS_OR_EQUAL),
             },
         )?;
-        let pcf_sampler = Sampler::new(
-            ctx,
-            "shadow map sampler (hardware pcf2x2)",
-            SamplerDesc {
-                filter: vk::Filter::LINEAR,
-                address: vk::SamplerAddressMode::CLAMP_TO_EDGE,
-                compare: Some(vk::CompareOp::LESS_OR_EQUAL),
-            },
-        )?;
         let raw_sampler = Sampler::new(
             ctx,
             "shadow map raw sampler",
@@ -110,16 +98,7 @@ impl ShadowMapPass {
         rec.clear_depth_image(&placeholder_cube, 1.0);
         rec.transition(&[(&placeholder_2d, dst, read), (&placeholder_cube, dst, read)]);
         ctx.submit_and_wait(rec)?;
-        Ok(Self {
-            settings,
-            pipeline,
-            sampler,
-            pcf_sampler,
-            raw_sampler,
-            placeholder_2d,
-            placeholder_cube,
-            targets: Vec::new(),
-        })
+        Ok(Self { settings, pipeline, sampler, raw_sampler, placeholder_2d, placeholder_cube, targets: Vec::new() })
     }
 
     /// The settings the pass was built with.
@@ -233,17 +212,18 @@ impl ShadowMapPass {
 
     /// Set 1 for light `light`: its map, or the placeholders (depth 1, never sampled: the
     /// light's shadow kind is `SHADOW_NONE`) when it has none this frame, compared through the
-    /// settings' filter or, with `hardware_pcf`, through a LINEAR comparison sampler; and
+    /// settings' filter; and
     /// `technique_image` at binding 3 (the light's silhouette map, the hybrid's silhouette-pixel
-    /// classes, or a placeholder).
+    /// classes, or a placeholder) and `bounds` at binding 4 (the hybrid's depth bounds, or a
+    /// placeholder).
     /// The set comes from `arena` (this frame's); its index there is returned.
     pub fn descriptor_set(
         &self,
         arena: &mut DescriptorArena,
         layout: &DescriptorSetLayout,
         light: Option<usize>,
-        hardware_pcf: bool,
         technique_image: &Image,
+        bounds: &Image,
     ) -> RenderResult<usize> {
         let target = light.and_then(|l| self.targets.get(l)).and_then(Option::as_ref);
         let (single, cube) = match target {
@@ -260,10 +240,14 @@ impl ShadowMapPass {
             Some(l) => format!("shadow set light {l}"),
             None => "shadow set (none)".to_owned(),
         };
-        let compare = if hardware_pcf { &self.pcf_sampler } else { &self.sampler };
-        let raw = &self.raw_sampler;
-        let resources =
-            [sampled(single, compare), sampled(cube, compare), sampled(single, raw), sampled(technique_image, raw)];
+        let (compare, raw) = (&self.sampler, &self.raw_sampler);
+        let resources = [
+            sampled(single, compare),
+            sampled(cube, compare),
+            sampled(single, raw),
+            sampled(technique_image, raw),
+            sampled(bounds, raw),
+        ];
         Ok(arena.allocate(&name, layout, &resources)?)
     }
 
