@@ -27,8 +27,9 @@ use umbra::shadows::{HybridSettings, LightDiagnostics, MaskKind, Renderer, Rende
 struct Args {
     #[command(flatten)]
     common: common::CommonArgs,
-    /// Shadow-map resolution, texels per side (default: below the image's, see
-    /// HybridSettings::default_resolution): at least 64, at most what the device takes.
+    /// Shadow-map resolution, texels per side (default: from the frame, a texel about a pixel
+    /// on what the camera sees, within a budget; see HybridSettings::default_resolution): at
+    /// least 64, at most what the device takes.
     #[arg(long, value_parser = common::flags::parse_sm_size)]
     sm_size: Option<u32>,
     /// Computation mask: depth-bounds, stencil or none (default: depth-bounds where the
@@ -74,6 +75,7 @@ fn main() -> anyhow::Result<()> {
     // out of the total.
     desc.shadow_volume.overdraw = true;
     desc.diagnostics = args.debug_view;
+    args.common.apply_score(&mut desc);
     if args.common.window {
         return common::window::run(&args.common, "hybrid", scene, desc);
     }
@@ -106,6 +108,7 @@ fn main() -> anyhow::Result<()> {
     }
     common::warn_open_casters(&frame.report);
     common::write_outputs(&args.common, "hybrid", &frame)?;
+    common::print_score(&args.common, &scene, &frame)?;
     if args.debug_view {
         for d in &frame.diagnostics {
             write_debug_views(&args, &frame, d)?;

@@ -49,6 +49,7 @@ fn main() -> anyhow::Result<()> {
         normal_offset: args.normal_offset,
         outside_lit: !args.outside_shadowed,
     };
+    args.common.apply_score(&mut desc);
     if args.common.window {
         return common::window::run(&args.common, "shadow_map", scene, desc);
     }
@@ -71,5 +72,6 @@ fn main() -> anyhow::Result<()> {
         }
     }
     common::write_outputs(&args.common, "shadow_map", &frame)?;
+    common::print_score(&args.common, &scene, &frame)?;
     common::check_validation(&ctx)
 }

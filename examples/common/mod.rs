@@ -53,9 +53,23 @@ pub struct CommonArgs {
     /// Present without waiting for vertical blank (mailbox or immediate, where offered).
     #[arg(long, requires = "window")]
     pub no_vsync: bool,
+    /// Also score every shadowed light against the exact reference (a shadow ray cast on the
+    /// CPU from each pixel of the frame's G-buffer) and print its wrong pixels (headless only).
+    #[arg(long, conflicts_with = "window")]
+    pub score: bool,
 }
 
 impl CommonArgs {
+    /// Turns on what `--score` reads: the G-buffer, the diagnostics and the visibility images.
+    #[allow(dead_code)]
+    pub fn apply_score(&self, desc: &mut umbra::shadows::RendererDesc) {
+        if self.score {
+            desc.gbuffer = true;
+            desc.diagnostics = true;
+            desc.read_visibility = true;
+        }
+    }
+
     /// Loads `--scene` with every light's shadows set to `technique` (not every example
     /// overrides techniques).
     #[allow(dead_code)]
@@ -89,6 +103,39 @@ pub fn render_warm(
         renderer.render(scene)?;
     }
     Ok(renderer.render(scene)?)
+}
+
+/// With `--score`: prints, per shadowed light of `frame` (rendered from `scene` with
+/// [`CommonArgs::apply_score`]'s settings), its wrong pixels against the exact reference.
+#[allow(dead_code)]
+pub fn print_score(
+    args: &CommonArgs,
+    scene: &umbra::scene::Scene,
+    frame: &umbra::shadows::Frame,
+) -> anyhow::Result<()> {
+    use umbra_reference::{Comparison, SceneBvh, ShadowMask, SurfaceImage};
+    if !args.score {
+        return Ok(());
+    }
+    let gbuffer = frame.gbuffer.as_ref().context("--score: the frame has no G-buffer")?;
+    let surfaces = SurfaceImage::from_gbuffer(frame.width, frame.height, &gbuffer.position, &gbuffer.normal)?;
+    let bvh = SceneBvh::build(scene);
+    for d in &frame.diagnostics {
+        let mask = frame.shadow_mask(d.light).unwrap_or_default();
+        let technique = ShadowMask::new(frame.width, frame.height, mask)?;
+        let truth = ShadowMask::reference(scene, &bvh, d.light, &surfaces)?;
+        let c = Comparison::new(&technique, &truth)?;
+        println!(
+            "light {}: {} of {} compared pixels wrong ({:.4} %: {} false shadow, {} false light), against the exact reference",
+            d.light,
+            c.all.wrong,
+            c.all.compared,
+            100.0 * c.all.fraction(),
+            c.all.false_shadow,
+            c.all.false_lit
+        );
+    }
+    Ok(())
 }
 
 /// Logging to stderr (`RUST_LOG` overrides the `info` default).
@@ -145,6 +192,11 @@ pub fn write_outputs(args: &CommonArgs, stem: &str, frame: &umbra::shadows::Fram
     for p in &r.passes {
         let t = p.gpu_ms.map(|t| format!("{t:9.3} ms")).unwrap_or_else(|| "      n/a".into());
         println!("  {t}  {:<24} {:>5} draws {:>9} triangles", p.name, p.draws, p.triangles);
+    }
+    for l in &r.lights {
+        if let Some([lo, hi]) = l.shadow_map.as_ref().and_then(|m| m.receiver_texel_size) {
+            println!("  light {}: a map texel spans {lo:.4}..{hi:.4} world units on what the camera sees", l.light);
+        }
     }
     for l in r.lights.iter().filter(|l| !l.recorded) {
         println!("  skipped light {}: {}", l.light, l.skipped_because.as_deref().unwrap_or(""));

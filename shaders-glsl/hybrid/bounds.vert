@@ -3,8 +3,8 @@
 // has VK_EXT_conservative_rasterization (nor SwiftShader geometry shaders), so each triangle is
 // pulled whole from the scene's vertex and index buffers (set 1) by every one of its three
 // vertices, and drawn as a rectangle (two triangles, six vertices) that holds the centre of
-// every texel whose square it may touch (its bounding box grown by a texel; the whole view when
-// a corner lies at or behind a perspective light's plane). The fragment stage then tests each texel's square
+// every texel whose square it may touch (the box of its part in front of the light, grown by a
+// texel). The fragment stage then tests each texel's square
 // against the real triangle exactly (Hasselgren et al., GPU Gems 2 ch. 42, in homogeneous
 // 2D coordinates, so that corners behind the light need no clipping).
 //
@@ -59,20 +59,30 @@ void main() {
         gl_Position = DROPPED;
         return;
     }
-    vec2 lo = vec2(-1.0);
-    vec2 hi = vec2(1.0);
-    const float W_MIN = 1e-6;
-    if (!perspective || min(clip[0].w, min(clip[1].w, clip[2].w)) > W_MIN) {
-        vec2 a = clip[0].xy / clip[0].w;
-        vec2 b = clip[1].xy / clip[1].w;
-        vec2 c = clip[2].xy / clip[2].w;
-        lo = min(a, min(b, c));
-        hi = max(a, max(b, c));
-        // A triangle whose box is narrower than a texel (2 / size) covers no texel square.
-        if (BOUND == 1u && any(lessThan(hi - lo, vec2(2.0 * l.shadow_params.y)))) {
-            gl_Position = DROPPED;
-            return;
+    // The box of the triangle's part in front of the light: its corners there and, for a
+    // perspective light, where its edges cross w = W_MIN (a hair in front of the light's plane,
+    // relative to the triangle's own depth: only occluders within 10^-6 of the light itself,
+    // which project outside the view anyway, are left out of the box).
+    vec2 lo = vec2(1e30);
+    vec2 hi = vec2(-1e30);
+    float w_min = perspective ? 1e-6 * max(clip[0].w, max(clip[1].w, clip[2].w)) : 0.0;
+    for (uint k = 0u; k < 3u; ++k) {
+        vec4 a = clip[k];
+        vec4 b = clip[(k + 1u) % 3u];
+        if (!perspective || a.w > w_min) {
+            lo = min(lo, a.xy / a.w);
+            hi = max(hi, a.xy / a.w);
         }
+        if (perspective && (a.w > w_min) != (b.w > w_min)) {
+            vec4 cut = mix(a, b, (w_min - a.w) / (b.w - a.w));
+            lo = min(lo, cut.xy / w_min);
+            hi = max(hi, cut.xy / w_min);
+        }
+    }
+    // A triangle whose box is narrower than a texel (2 / size) covers no texel square.
+    if (BOUND == 1u && any(lessThan(hi - lo, vec2(2.0 * l.shadow_params.y)))) {
+        gl_Position = DROPPED;
+        return;
     }
     // One texel (2 / size in NDC) around the box, clamped just outside the view.
     float pad = 2.0 * l.shadow_params.y * 1.05;

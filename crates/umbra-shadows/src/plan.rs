@@ -172,6 +172,11 @@ pub struct ShadowMapReport {
     pub casters: usize,
     /// World units per texel along the map's x and y (orthographic maps: directional lights).
     pub texel_size: Option<[f32; 2]>,
+    /// The least and the largest world size of one texel (across the light's rays) where the
+    /// map lands on what the camera sees of the receivers (the points of an 8³ grid through
+    /// each visible receiver's box that lie in the camera's frustum); `None` when no such point
+    /// lies in a view.
+    pub receiver_texel_size: Option<[f32; 2]>,
     /// World-to-clip matrix of each view (one, or six cube faces in +x, −x, +y, −y, +z, −z
     /// order; Vulkan clip space, depth 0..1): where a world point falls in the map, and how
     /// large a texel is there.
@@ -485,7 +490,7 @@ fn choose_auto(scene: &Scene, light: usize, input: &PlanInput<'_>, view_proj: &M
             if !lit || !in_view(p) {
                 continue;
             }
-            let Some(texel) = texel_at(&views.views, p, resolution) else { continue };
+            let Some(texel) = frustum::texel_at(&views.views, p, resolution) else { continue };
             let pixel = (p - cam.position).dot(forward) * pixel_per_depth;
             let ratio = texel / pixel;
             if worst.is_none_or(|(w, _)| ratio > w) {
@@ -507,24 +512,6 @@ fn choose_auto(scene: &Scene, light: usize, input: &PlanInput<'_>, view_proj: &M
         ),
         None => (Technique::ShadowMap, "shadow_map: no visible receiver it reaches".into()),
     }
-}
-
-/// World size of one texel of the map view that holds `p` (across the light's rays, at `p`'s
-/// depth in the map), or `None` when no view holds it.
-fn texel_at(views: &[Mat4], p: Vec3, resolution: u32) -> Option<f32> {
-    views.iter().find_map(|vp| {
-        let clip = *vp * p.extend(1.0);
-        let inside = clip.w > 0.0 && clip.x.abs() <= clip.w && clip.y.abs() <= clip.w;
-        if !inside {
-            return None;
-        }
-        let ndc = clip.xyz() / clip.w;
-        let inv = vp.inverse();
-        let step = 2.0 / resolution as f32;
-        let at = |dx: f32, dy: f32| inv.project_point3(ndc + Vec3::new(dx, dy, 0.0));
-        let o = at(0.0, 0.0);
-        Some(at(step, 0.0).distance(o).max(at(0.0, step).distance(o)))
-    })
 }
 
 #[cfg(test)]

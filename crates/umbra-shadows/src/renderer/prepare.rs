@@ -101,6 +101,12 @@ impl Renderer {
                 far: views.far,
                 casters: views.casters.len(),
                 texel_size: (source.position.w == 0.0).then(|| frustum::texel_size(views.views[0], resolution)),
+                receiver_texel_size: frustum::receiver_texel_size(
+                    &views.views,
+                    &views.receivers,
+                    resolution,
+                    view.view_proj,
+                ),
                 view_proj: views.views.clone(),
             });
             if map.silhouette {
@@ -139,7 +145,6 @@ impl Renderer {
         lights: &mut [LightFrame],
     ) -> RenderResult<Vec<Option<MapFrame>>> {
         let settings = *self.shadow_map.settings();
-        let hybrid_resolution = HybridSettings::default_resolution(self.desc.width, self.desc.height);
         let uses_map = |l: &LightFrame| l.plan.recorded && l.plan.shadowed && needs(l.plan.technique).map.is_some();
         let mut fitted: Vec<Option<MapFrame>> = (0..lights.len()).map(|_| None).collect();
         let mut storage = Vec::new();
@@ -165,8 +170,15 @@ impl Renderer {
                     why: SILHOUETTE_CUBE_UNSUPPORTED.into(),
                 });
             }
+            let (width, height) = (self.desc.width, self.desc.height);
+            let from_frame = || {
+                // The ratio at a reference size; texels shrink in proportion to the size.
+                const REFERENCE: u32 = 1024;
+                let ratio = frustum::texel_pixel_ratio(&views, REFERENCE, &view.camera, view.view_proj, height);
+                HybridSettings::default_resolution(ratio, REFERENCE, width, height)
+            };
             let resolution = source.shadow_map_size.unwrap_or(match needs(plan.technique).map {
-                Some(MapSize::Hybrid) => self.desc.hybrid.resolution.unwrap_or(hybrid_resolution),
+                Some(MapSize::Hybrid) => self.desc.hybrid.resolution.unwrap_or_else(from_frame),
                 Some(MapSize::Settings) | None => settings.resolution,
             });
             let mut bytes = self.shadow_map.check(&self.ctx, plan.light, resolution, views.kind)?;

@@ -8,7 +8,7 @@
 
 use crate::reach::{Clip, Planes};
 use glam::{Mat4, Vec3, Vec4, Vec4Swizzles};
-use umbra_scene::{Aabb, Light, LightKind, Scene};
+use umbra_scene::{Aabb, Camera, Light, LightKind, Scene};
 
 /// Spot cones wider than this (half-angle, degrees) get a cube map.
 const MAX_SPOT_DEG: f32 = 80.0;
@@ -37,9 +37,17 @@ pub(crate) struct LightViews {
     pub casters: Vec<usize>,
     /// Per view, the casters that may touch it (`cull_per_view`); `None`: all of `casters`.
     pub view_casters: Option<Vec<Vec<usize>>>,
+    /// The boxes of the visible receivers the fit used (those that may intersect the camera's
+    /// frustum), in world space.
+    pub receivers: Vec<Aabb>,
 }
 
 impl LightViews {
+    /// Views of `kind` with their depth range; casters and receivers are filled in by `fit`.
+    fn new(kind: MapKind, views: Vec<Mat4>, near: f32, far: f32) -> Self {
+        Self { kind, views, near, far, casters: Vec::new(), view_casters: None, receivers: Vec::new() }
+    }
+
     /// The casters drawn into view `layer`.
     pub fn casters_of(&self, layer: usize) -> &[usize] {
         match &self.view_casters {
@@ -108,6 +116,7 @@ pub(crate) fn fit(light: &Light, scene: &Scene, boxes: &[Option<Aabb>], camera_v
     let mut order = casters;
     order.sort_by(|a, b| key(a).total_cmp(&key(b)));
     fitted.casters = order;
+    fitted.receivers = receivers;
     Some(fitted)
 }
 
@@ -130,7 +139,7 @@ fn directional(towards_light: Vec3, casters: &[Aabb], receivers: &[Aabb]) -> Opt
     let depth_pad = (far - near) * 0.01 + 1e-3;
     let (near, far) = (near - depth_pad, far + depth_pad);
     let proj = Mat4::orthographic_rh(min.x - pad.x, max.x + pad.x, min.y - pad.y, max.y + pad.y, near, far);
-    Some(LightViews { kind: MapKind::Single, views: vec![proj * view], near, far, casters: vec![], view_casters: None })
+    Some(LightViews::new(MapKind::Single, vec![proj * view], near, far))
 }
 
 /// The far distance from `p` that holds every caster and receiver (a view's depth never
@@ -157,7 +166,7 @@ fn spot(light: &Light, casters: &[Aabb], receivers: &[Aabb]) -> LightViews {
     let fov = (2.0 * (s.outer_deg + SPOT_MARGIN_DEG)).to_radians();
     let view = Mat4::look_at_rh(p, p + axis, any_up(axis));
     let proj = Mat4::perspective_rh(fov, 1.0, near, far);
-    LightViews { kind: MapKind::Single, views: vec![proj * view], near, far, casters: vec![], view_casters: None }
+    LightViews::new(MapKind::Single, vec![proj * view], near, far)
 }
 
 /// Right, up and forward of the six cube faces in Vulkan's layer order (+X, -X, +Y, -Y, +Z,
@@ -193,7 +202,86 @@ fn cube(p: Vec3, casters: &[Aabb], receivers: &[Aabb]) -> LightViews {
             proj * view
         })
         .collect();
-    LightViews { kind: MapKind::Cube, views, near, far, casters: vec![], view_casters: None }
+    LightViews::new(MapKind::Cube, views, near, far)
+}
+
+/// World size of one texel of the map view that holds `p` (across the light's rays, at `p`'s
+/// depth in the map), or `None` when no view holds it.
+pub(crate) fn texel_at(views: &[Mat4], p: Vec3, resolution: u32) -> Option<f32> {
+    views.iter().find_map(|vp| {
+        let clip = *vp * p.extend(1.0);
+        let inside = clip.w > 0.0 && clip.x.abs() <= clip.w && clip.y.abs() <= clip.w;
+        if !inside {
+            return None;
+        }
+        let ndc = clip.xyz() / clip.w;
+        let inv = vp.inverse();
+        let step = 2.0 / resolution as f32;
+        let at = |dx: f32, dy: f32| inv.project_point3(ndc + Vec3::new(dx, dy, 0.0));
+        let o = at(0.0, 0.0);
+        Some(at(step, 0.0).distance(o).max(at(0.0, step).distance(o)))
+    })
+}
+
+/// The largest Stamminger–Drettakis ratio of `views` at `resolution` on what the camera sees
+/// of the receivers (`views.receivers`, the same grid as [`receiver_texel_size`]): a texel's
+/// world size over a pixel's at the same point, for `camera` (view-projection
+/// `camera_view_proj`) drawing `height` pixel rows. `None` when no grid point lies in a view.
+pub(crate) fn texel_pixel_ratio(
+    views: &LightViews,
+    resolution: u32,
+    camera: &Camera,
+    camera_view_proj: Mat4,
+    height: u32,
+) -> Option<f32> {
+    let forward = (camera.target - camera.position).normalize_or_zero();
+    let pixel_per_depth = 2.0 * (camera.fov_y_deg.to_radians() * 0.5).tan() / height.max(1) as f32;
+    let mut worst: Option<f32> = None;
+    for_grid(&views.receivers, camera_view_proj, |p| {
+        let depth = (p - camera.position).dot(forward);
+        if depth <= 0.0 {
+            return;
+        }
+        if let Some(t) = texel_at(&views.views, p, resolution).filter(|t| t.is_finite()) {
+            let ratio = t / (depth * pixel_per_depth);
+            worst = Some(worst.map_or(ratio, |w| w.max(ratio)));
+        }
+    });
+    worst
+}
+
+/// Calls `f` at the points of a grid (`GRID` per side, through each box) that lie in the
+/// frustum of `camera_view_proj`.
+fn for_grid(boxes: &[Aabb], camera_view_proj: Mat4, mut f: impl FnMut(Vec3)) {
+    const GRID: usize = 8;
+    let seen = Planes::of(camera_view_proj, Clip::All);
+    for b in boxes {
+        let step = (b.max - b.min) / (GRID - 1) as f32;
+        for i in 0..GRID * GRID * GRID {
+            let (x, y, z) = (i % GRID, i / GRID % GRID, i / (GRID * GRID));
+            let p = b.min + step * Vec3::new(x as f32, y as f32, z as f32);
+            if seen.may_hold_sphere(p, 0.0) {
+                f(p);
+            }
+        }
+    }
+}
+
+/// The least and the largest [`texel_at`] over the grid points of `receivers` the camera
+/// (`camera_view_proj`) sees (`for_grid`), or `None` when no such point lies in a view.
+pub(crate) fn receiver_texel_size(
+    views: &[Mat4],
+    receivers: &[Aabb],
+    resolution: u32,
+    camera_view_proj: Mat4,
+) -> Option<[f32; 2]> {
+    let mut range: Option<[f32; 2]> = None;
+    for_grid(receivers, camera_view_proj, |p| {
+        if let Some(t) = texel_at(views, p, resolution).filter(|t| t.is_finite()) {
+            range = Some(range.map_or([t, t], |[lo, hi]| [lo.min(t), hi.max(t)]));
+        }
+    });
+    range
 }
 
 /// World units per texel along the map's x and y for an orthographic `view_proj` (clip x and
