@@ -60,7 +60,7 @@ void main() {
         return;
     }
     // The box of the triangle's part in front of the light: its corners there and, for a
-    // perspective light, where its edges cross w = W_MIN (a hair in front of the light's plane,
+    // perspective light, where its edges cross w = w_min (a hair in front of the light's plane,
     // relative to the triangle's own depth: only occluders within 10^-6 of the light itself,
     // which project outside the view anyway, are left out of the box).
     vec2 lo = vec2(1e30);

@@ -27,7 +27,7 @@ use crate::reach::{self, Clip, Planes, Unreached};
 use crate::shadow_map::frustum;
 use crate::technique::{needs, Casters};
 use crate::{RenderError, RenderResult};
-use glam::{Mat4, Vec3, Vec4Swizzles};
+use glam::{Mat4, Vec4Swizzles};
 use serde::Serialize;
 use umbra_scene::{Aabb, Camera, LightKind, Scene, Technique};
 
@@ -469,35 +469,20 @@ fn choose_auto(scene: &Scene, light: usize, input: &PlanInput<'_>, view_proj: &M
         return (Technique::ShadowMap, "shadow_map: no caster can shadow a visible receiver".into());
     };
     let resolution = l.shadow_map_size.unwrap_or(input.map_resolution);
-    let cam = input.camera;
-    let forward = (cam.target - cam.position).normalize_or_zero();
-    let pixel_per_depth = 2.0 * (cam.fov_y_deg.to_radians() * 0.5).tan() / input.size.1 as f32;
-    let in_view = |p: Vec3| {
-        let clip = *view_proj * p.extend(1.0);
-        clip.w > cam.near && clip.x.abs() <= clip.w && clip.y.abs() <= clip.w
-    };
+    let seen = frustum::Seen { camera: input.camera, view_proj: *view_proj, height: input.size.1 };
+    let reached = scene.objects.iter().enumerate().filter_map(|(o, object)| {
+        let b = input.boxes.get(o).copied().flatten()?;
+        (object.receives_shadows && reach::light_reaches(l, &b, 0.0).is_ok()).then_some((o, b))
+    });
     let mut worst: Option<(f32, usize)> = None;
-    for (o, object) in scene.objects.iter().enumerate() {
-        let Some(b) = input.boxes.get(o).copied().flatten() else { continue };
-        if !object.receives_shadows || reach::light_reaches(l, &b, 0.0).is_err() {
-            continue;
+    seen.for_grid(reached, SAMPLES, |o, p| {
+        let lit = l.bounded_range().is_none_or(|r| p.distance(l.position.xyz()) < r);
+        let Some(texel) = frustum::texel_at(&views.views, p, resolution).filter(|_| lit) else { return };
+        let ratio = texel / seen.pixel_at(p);
+        if worst.is_none_or(|(w, _)| ratio > w) {
+            worst = Some((ratio, o));
         }
-        let step = (b.max - b.min) / (SAMPLES - 1) as f32;
-        for i in 0..SAMPLES * SAMPLES * SAMPLES {
-            let (x, y, z) = (i % SAMPLES, i / SAMPLES % SAMPLES, i / (SAMPLES * SAMPLES));
-            let p = b.min + step * Vec3::new(x as f32, y as f32, z as f32);
-            let lit = l.bounded_range().is_none_or(|r| p.distance(l.position.xyz()) < r);
-            if !lit || !in_view(p) {
-                continue;
-            }
-            let Some(texel) = frustum::texel_at(&views.views, p, resolution) else { continue };
-            let pixel = (p - cam.position).dot(forward) * pixel_per_depth;
-            let ratio = texel / pixel;
-            if worst.is_none_or(|(w, _)| ratio > w) {
-                worst = Some((ratio, o));
-            }
-        }
-    }
+    });
     match worst {
         Some((ratio, o)) if ratio > 1.0 => (
             Technique::Hybrid,

@@ -27,6 +27,13 @@ pub(super) struct FrameView {
     pub boxes: Vec<Option<Aabb>>,
 }
 
+impl FrameView {
+    /// What its camera sees, for a frame of `height` pixel rows.
+    pub fn seen(&self, height: u32) -> crate::shadow_map::frustum::Seen<'_> {
+        crate::shadow_map::frustum::Seen { camera: &self.camera, view_proj: self.view_proj, height }
+    }
+}
+
 /// One light's shadow map this frame.
 pub(super) struct MapFrame {
     /// Its views (one per layer) and the casters each draws.

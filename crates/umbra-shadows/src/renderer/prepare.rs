@@ -80,6 +80,7 @@ impl Renderer {
         for (light, map) in lights.iter_mut().zip(&mut fitted) {
             let Some(mut map) = map.take() else { continue };
             let (l, resolution, views) = (light.light(), map.resolution, &map.views);
+            let seen = view.seen(self.desc.height);
             let source = &scene.lights[l];
             self.shadow_map.prepare(&self.ctx, l, resolution, views.kind)?;
             map.shadow = GpuShadow {
@@ -101,12 +102,7 @@ impl Renderer {
                 far: views.far,
                 casters: views.casters.len(),
                 texel_size: (source.position.w == 0.0).then(|| frustum::texel_size(views.views[0], resolution)),
-                receiver_texel_size: frustum::receiver_texel_size(
-                    &views.views,
-                    &views.receivers,
-                    resolution,
-                    view.view_proj,
-                ),
+                receiver_texel_size: frustum::receiver_texel_size(&views.views, &views.receivers, resolution, seen),
                 view_proj: views.views.clone(),
             });
             if map.silhouette {
@@ -174,7 +170,7 @@ impl Renderer {
             let from_frame = || {
                 // The ratio at a reference size; texels shrink in proportion to the size.
                 const REFERENCE: u32 = 1024;
-                let ratio = frustum::texel_pixel_ratio(&views, REFERENCE, &view.camera, view.view_proj, height);
+                let ratio = frustum::texel_pixel_ratio(&views, REFERENCE, view.seen(height));
                 HybridSettings::default_resolution(ratio, REFERENCE, width, height)
             };
             let resolution = source.shadow_map_size.unwrap_or(match needs(plan.technique).map {

@@ -223,60 +223,80 @@ pub(crate) fn texel_at(views: &[Mat4], p: Vec3, resolution: u32) -> Option<f32> 
     })
 }
 
-/// The largest Stamminger–Drettakis ratio of `views` at `resolution` on what the camera sees
-/// of the receivers (`views.receivers`, the same grid as [`receiver_texel_size`]): a texel's
-/// world size over a pixel's at the same point, for `camera` (view-projection
-/// `camera_view_proj`) drawing `height` pixel rows. `None` when no grid point lies in a view.
-pub(crate) fn texel_pixel_ratio(
-    views: &LightViews,
-    resolution: u32,
-    camera: &Camera,
-    camera_view_proj: Mat4,
-    height: u32,
-) -> Option<f32> {
-    let forward = (camera.target - camera.position).normalize_or_zero();
-    let pixel_per_depth = 2.0 * (camera.fov_y_deg.to_radians() * 0.5).tan() / height.max(1) as f32;
-    let mut worst: Option<f32> = None;
-    for_grid(&views.receivers, camera_view_proj, |p| {
-        let depth = (p - camera.position).dot(forward);
-        if depth <= 0.0 {
-            return;
-        }
-        if let Some(t) = texel_at(&views.views, p, resolution).filter(|t| t.is_finite()) {
-            let ratio = t / (depth * pixel_per_depth);
-            worst = Some(worst.map_or(ratio, |w| w.max(ratio)));
-        }
-    });
-    worst
+/// What a camera sees, for sampling receivers (`auto`'s choice, the hybrid's default map size,
+/// the report's texel size): its view-projection and how large a pixel is at a given depth.
+#[derive(Clone, Copy)]
+pub(crate) struct Seen<'a> {
+    pub camera: &'a Camera,
+    pub view_proj: Mat4,
+    /// Pixel rows of the frame.
+    pub height: u32,
 }
 
-/// Calls `f` at the points of a grid (`GRID` per side, through each box) that lie in the
-/// frustum of `camera_view_proj`.
-fn for_grid(boxes: &[Aabb], camera_view_proj: Mat4, mut f: impl FnMut(Vec3)) {
-    const GRID: usize = 8;
-    let seen = Planes::of(camera_view_proj, Clip::All);
-    for b in boxes {
-        let step = (b.max - b.min) / (GRID - 1) as f32;
-        for i in 0..GRID * GRID * GRID {
-            let (x, y, z) = (i % GRID, i / GRID % GRID, i / (GRID * GRID));
-            let p = b.min + step * Vec3::new(x as f32, y as f32, z as f32);
-            if seen.may_hold_sphere(p, 0.0) {
-                f(p);
+impl Seen<'_> {
+    /// Whether `p` lies inside the camera's side planes, beyond its near plane.
+    fn holds(&self, p: Vec3) -> bool {
+        let clip = self.view_proj * p.extend(1.0);
+        clip.w > self.camera.near && clip.x.abs() <= clip.w && clip.y.abs() <= clip.w
+    }
+
+    /// World size of one pixel at `p` (its depth along the view axis times a pixel's angle).
+    pub fn pixel_at(&self, p: Vec3) -> f32 {
+        let c = self.camera;
+        let forward = (c.target - c.position).normalize_or_zero();
+        let per_depth = 2.0 * (c.fov_y_deg.to_radians() * 0.5).tan() / self.height.max(1) as f32;
+        (p - c.position).dot(forward) * per_depth
+    }
+
+    /// Calls `f(i, p)` at the points `p` of a grid (`samples` per side) through each box `i`
+    /// of `boxes` that the camera sees.
+    pub fn for_grid(
+        &self,
+        boxes: impl IntoIterator<Item = (usize, Aabb)>,
+        samples: usize,
+        mut f: impl FnMut(usize, Vec3),
+    ) {
+        for (i, b) in boxes {
+            let step = (b.max - b.min) / (samples - 1) as f32;
+            for k in 0..samples * samples * samples {
+                let (x, y, z) = (k % samples, k / samples % samples, k / (samples * samples));
+                let p = b.min + step * Vec3::new(x as f32, y as f32, z as f32);
+                if self.holds(p) {
+                    f(i, p);
+                }
             }
         }
     }
 }
 
-/// The least and the largest [`texel_at`] over the grid points of `receivers` the camera
-/// (`camera_view_proj`) sees (`for_grid`), or `None` when no such point lies in a view.
+/// Grid points per side of a receiver box where the hybrid's default size and the report's
+/// texel size are sampled.
+const RECEIVER_SAMPLES: usize = 8;
+
+/// The largest Stamminger–Drettakis ratio of `views` at `resolution` on what `seen` sees of the
+/// receivers (`views.receivers`): a texel's world size over a pixel's at the same point.
+/// `None` when no such point lies in a view.
+pub(crate) fn texel_pixel_ratio(views: &LightViews, resolution: u32, seen: Seen<'_>) -> Option<f32> {
+    let mut worst: Option<f32> = None;
+    seen.for_grid(views.receivers.iter().copied().enumerate(), RECEIVER_SAMPLES, |_, p| {
+        let pixel = seen.pixel_at(p);
+        if let Some(t) = texel_at(&views.views, p, resolution).filter(|t| t.is_finite() && pixel > 0.0) {
+            worst = Some(worst.map_or(t / pixel, |w| w.max(t / pixel)));
+        }
+    });
+    worst
+}
+
+/// The least and the largest [`texel_at`] at the grid points of `receivers` that `seen` sees,
+/// or `None` when no such point lies in a view.
 pub(crate) fn receiver_texel_size(
     views: &[Mat4],
     receivers: &[Aabb],
     resolution: u32,
-    camera_view_proj: Mat4,
+    seen: Seen<'_>,
 ) -> Option<[f32; 2]> {
     let mut range: Option<[f32; 2]> = None;
-    for_grid(receivers, camera_view_proj, |p| {
+    seen.for_grid(receivers.iter().copied().enumerate(), RECEIVER_SAMPLES, |_, p| {
         if let Some(t) = texel_at(views, p, resolution).filter(|t| t.is_finite()) {
             range = Some(range.map_or([t, t], |[lo, hi]| [lo.min(t), hi.max(t)]));
         }
