@@ -28,7 +28,7 @@ struct Args {
     #[command(flatten)]
     common: common::CommonArgs,
     /// Shadow-map resolution, texels per side (default: from the frame, a texel about a pixel
-    /// on what the camera sees, within a budget; see HybridSettings::default_resolution): at
+    /// on what the camera sees, within a budget; see ShadowMapSettings::resolution_from_frame): at
     /// least 64, at most what the device takes.
     #[arg(long, value_parser = common::flags::parse_sm_size)]
     sm_size: Option<u32>,

@@ -17,10 +17,12 @@ use umbra::shadows::{DepthBias, Renderer, RendererDesc, ShadowFilter, ShadowMapS
 struct Args {
     #[command(flatten)]
     common: common::CommonArgs,
-    /// Shadow-map resolution, texels per side (cube maps: per face): at least 64, at most what
-    /// the device takes (checked per light, naming the limit).
-    #[arg(long, default_value_t = ShadowMapSettings::DEFAULT.resolution, value_parser = common::flags::parse_sm_size)]
-    sm_size: u32,
+    /// Shadow-map resolution, texels per side (cube maps: per face; default: from the frame, a
+    /// texel about a pixel on what the camera sees, within a budget; see
+    /// ShadowMapSettings::resolution_from_frame): at least 64, at most what the device takes
+    /// (checked per light, naming the limit).
+    #[arg(long, value_parser = common::flags::parse_sm_size)]
+    sm_size: Option<u32>,
     /// Lookup filter: nearest, pcf2x2 (hardware), pcf3x3 or pcf5x5.
     #[arg(long, default_value = "pcf2x2")]
     filter: ShadowFilter,

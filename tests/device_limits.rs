@@ -177,7 +177,8 @@ fn the_shadow_map_budget_is_checked_before_any_map_is_allocated() {
                 l
             })
             .collect();
-        let mut r = renderer(ctx, |_| {});
+        // 2048² per face, as set (a map sized from the 256×192 frame would be 256²).
+        let mut r = renderer(ctx, |d| d.shadow_map.resolution = Some(2048));
         let err = r.render(&scene).expect_err("over the default budget");
         println!("{err}");
         let RenderError::ShadowBudget { lights, bytes, budget } = &err else { panic!("{err}") };
@@ -190,13 +191,25 @@ fn the_shadow_map_budget_is_checked_before_any_map_is_allocated() {
         // A spot's 1024² map is 4 MiB: one byte less is refused, exactly that renders.
         let spot = cubes_spot();
         let map = 4 * 1024 * 1024;
-        let settings = ShadowMapSettings { resolution: 1024, ..ShadowMapSettings::DEFAULT };
+        let settings = ShadowMapSettings { resolution: Some(1024), ..ShadowMapSettings::DEFAULT };
         let mut tight = renderer(ctx, |d| (d.shadow_map, d.shadow_map_budget_bytes) = (settings, map - 1));
         let err = tight.render(&spot).expect_err("one byte short");
         assert!(matches!(&err, RenderError::ShadowBudget { bytes, .. } if *bytes == map), "{err}");
         let mut enough = renderer(ctx, |d| (d.shadow_map, d.shadow_map_budget_bytes) = (settings, map));
         let frame = enough.render(&spot).expect("within the budget");
         assert_eq!(frame.report.lights[0].shadow_map.as_ref().map(|m| m.resolution), Some(1024));
+
+        // The hybrid's light also holds its depth bounds, two more layers of the map's size.
+        let mut hybrid = spot.clone();
+        hybrid.lights[0].technique = umbra::scene::Technique::Hybrid;
+        let sized = |d: &mut RendererDesc, budget| {
+            d.hybrid.resolution = Some(1024);
+            d.shadow_map_budget_bytes = budget;
+        };
+        let err = renderer(ctx, |d| sized(d, 3 * map - 1)).render(&hybrid).expect_err("one byte short");
+        assert!(matches!(&err, RenderError::ShadowBudget { bytes, .. } if *bytes == 3 * map), "{err}");
+        assert!(err.to_string().contains("light 0: 1024² + depth bounds = 12 MiB"), "{err}");
+        renderer(ctx, |d| sized(d, 3 * map)).render(&hybrid).expect("within the budget");
     });
 }
 

@@ -214,7 +214,7 @@ fn under_biased_maps_are_repaired_by_the_volumes() {
         let scene = tilted_floor();
         let no_bias = |d: &mut RendererDesc| {
             d.shadow_map = ShadowMapSettings {
-                resolution: 128,
+                resolution: Some(128),
                 bias: DepthBias { constant: 0.0, slope: 0.0, clamp_texels: None },
                 normal_offset: 0.0,
                 ..ShadowMapSettings::DEFAULT

@@ -239,7 +239,7 @@ const FLAG_TECHNIQUES: [(Technique, i32, bool); 3] =
 fn flag_renderer(ctx: &Context) -> Renderer {
     let mut desc = RendererDesc::new(common::SIZE.0, common::SIZE.1);
     desc.gbuffer = true;
-    desc.shadow_map.resolution = 2048;
+    desc.shadow_map.resolution = Some(2048);
     Renderer::new(ctx, desc).unwrap()
 }
 

@@ -17,7 +17,7 @@ fn renderer(ctx: &Context, size: (u32, u32), settings: ShadowMapSettings) -> Ren
 }
 
 fn settings(resolution: u32, filter: ShadowFilter) -> ShadowMapSettings {
-    ShadowMapSettings { resolution, filter, ..ShadowMapSettings::DEFAULT }
+    ShadowMapSettings { resolution: Some(resolution), filter, ..ShadowMapSettings::DEFAULT }
 }
 
 /// Red channel in 0..255.

@@ -16,7 +16,8 @@ const SIZE: u32 = 256;
 
 fn render(ctx: &Context, scene: &Scene, resolution: u32, diagnostics: bool) -> Frame {
     let mut desc = RendererDesc::new(SIZE, SIZE);
-    desc.shadow_map = ShadowMapSettings { resolution, filter: ShadowFilter::Nearest, ..ShadowMapSettings::DEFAULT };
+    desc.shadow_map =
+        ShadowMapSettings { resolution: Some(resolution), filter: ShadowFilter::Nearest, ..ShadowMapSettings::DEFAULT };
     desc.diagnostics = diagnostics;
     Renderer::new(ctx, desc).expect("renderer").render(scene).expect("frame")
 }

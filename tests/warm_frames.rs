@@ -15,7 +15,7 @@ use umbra::shadows::{PassId, Renderer, RendererDesc};
 /// overdraw), blocker culling.
 fn variants() -> [(&'static str, RendererDesc); 3] {
     let mut plain = RendererDesc::new(128, 96);
-    plain.shadow_map.resolution = 512;
+    plain.shadow_map.resolution = Some(512);
     let mut views = plain;
     views.diagnostics = true;
     views.gbuffer = true;

@@ -428,7 +428,7 @@ impl Viewer {
         let mut desc = self.base_desc;
         (desc.width, desc.height) = (size.width, size.height);
         if let Some(resolution) = MAP_SIZES[self.settings.map_size] {
-            desc.shadow_map.resolution = resolution;
+            desc.shadow_map.resolution = Some(resolution);
             desc.hybrid.resolution = Some(resolution);
         }
         if self.settings.mask.is_some() {

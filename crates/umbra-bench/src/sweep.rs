@@ -83,7 +83,7 @@ pub fn unsupported(ctx: &Context, config: &Config) -> Option<String> {
 pub fn renderer_desc(config: &Config, width: u32, height: u32) -> BenchResult<RendererDesc> {
     let mut desc = RendererDesc::new(width, height);
     if let Some(s) = config.sm_size {
-        desc.shadow_map.resolution = s;
+        desc.shadow_map.resolution = Some(s);
     }
     if let Some(f) = config.filter {
         desc.shadow_map.filter = f.parse().map_err(BenchError::Usage)?;

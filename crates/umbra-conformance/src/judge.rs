@@ -15,9 +15,11 @@
 //! - **Shadow maps and silhouette maps** decide from depth samples one texel apart, so a wrong
 //!   pixel is explained within [`TEXEL_BAND`] texels of a change of the true shadow, measured
 //!   on the receiver: the pixel's surface point is moved by ±`TEXEL_BAND` texels in the
-//!   light's own map (eight directions, the map's x and y and the diagonals), projected back
-//!   along the light's rays onto the receiver's plane, and the exact shadow ray is cast from
-//!   there; if any disagrees with the pixel's, the pixel is in the band.
+//!   light's own map (eight directions, the map's x and y and the diagonals), and to the
+//!   centre of every map texel within `TEXEL_BAND` texels of it (the samples the map decided
+//!   from: a caster thinner than a texel that one of them hit can pass between the eight
+//!   points), projected back along the light's rays onto the receiver's plane, and the exact
+//!   shadow ray is cast from there; if any disagrees with the pixel's, the pixel is in the band.
 //!   The band also covers discontinuities of the map's depth field: if the first caster the
 //!   light sees through one of those eight neighbours is not on the pixel's plane (a crease
 //!   of the receiver, another object, a silhouette), the map's samples around the pixel are
@@ -283,10 +285,8 @@ fn map_explains(light: &Light, bvh: &SceneBvh, map: Option<&ShadowMapReport>, s:
             return true;
         }
     }
-    let directions =
-        [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0), (1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)];
     let tolerance = at(1.0, 0.0).distance(at(0.0, 0.0));
-    directions.iter().any(|&(dx, dy)| {
+    band_samples(ndc.truncate(), map.resolution).any(|(dx, dy)| {
         let q = at(dx, dy);
         // What the map stores there: the first surface from the light through q. Off p's
         // plane (a crease, another object, a silhouette) the map's depth field is not p's.
@@ -300,6 +300,27 @@ fn map_explains(light: &Light, bvh: &SceneBvh, map: Option<&ShadowMapReport>, s:
         let moved = Surface { position: on_receiver, ..*s };
         shadow_state(light, bvh, &moved) != Some(truth)
     })
+}
+
+/// Where [`map_explains`] looks for a change of the true shadow around a point at `ndc` of a
+/// `resolution`² map, as offsets in units of the band (`TEXEL_BAND` texels): first the eight
+/// points of the band's square (its x and y and the diagonals), then the centre of every texel
+/// of the map inside that square. The map decided the pixel from those texels' samples, so a
+/// caster narrower than a texel (a thin arm, a twig) that one of them hit is found there even
+/// when it passes between the eight points.
+fn band_samples(ndc: glam::Vec2, resolution: u32) -> impl Iterator<Item = (f32, f32)> {
+    let ring = [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0), (1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)];
+    let size = resolution as f32;
+    // The point in texels (texel centres at k + 0.5), and the centres within the band of it.
+    let texel = (ndc * 0.5 + 0.5) * size;
+    let first = (texel - TEXEL_BAND - 0.5).ceil();
+    let reach = 2 * TEXEL_BAND as i32 + 1;
+    let centres = (0..reach * reach).filter_map(move |k| {
+        let centre = first + glam::Vec2::new((k % reach) as f32, (k / reach) as f32) + 0.5;
+        let d = (centre - texel) / TEXEL_BAND;
+        (d.x.abs() <= 1.0 && d.y.abs() <= 1.0).then_some((d.x, d.y))
+    });
+    ring.into_iter().chain(centres)
 }
 
 /// The first caster point the light sees on its ray through `q`: what its depth map stores

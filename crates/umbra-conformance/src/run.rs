@@ -112,6 +112,12 @@ fn header_title(path: &Path) -> Option<String> {
     Some(title.trim_end_matches('.').to_owned())
 }
 
+/// Shadow-map and silhouette-map texels per side in every case (a light's `shadow_map_size`
+/// wins): the suite judges numerical robustness at one fixed, fine size rather than at the
+/// size a 256×192 frame would pick (`ShadowMapSettings::resolution_from_frame`: 256²). The
+/// hybrid keeps its own default, from the frame.
+pub const CASE_MAP_SIZE: u32 = 2048;
+
 /// Runs `case` (scene file in `dir`) with every technique at `size` on `ctx`.
 pub fn run_case(ctx: &Context, dir: &Path, case: &Case, size: (u32, u32)) -> ConformanceResult<CaseRun> {
     let path = case_path(dir, case);
@@ -170,6 +176,7 @@ pub fn run_technique(
         }
     }
     let mut desc = RendererDesc::new(size.0, size.1);
+    desc.shadow_map.resolution = Some(CASE_MAP_SIZE);
     desc.diagnostics = true;
     desc.gbuffer = true;
     desc.read_visibility = true;

@@ -18,7 +18,9 @@ pub struct ShadowStorage {
     pub cube: bool,
     /// Whether it also has a silhouette map (and, with diagnostics, its readback).
     pub silhouette: bool,
-    /// Bytes of its depth map, silhouette map and silhouette-map readback.
+    /// Whether it also has the hybrid's depth bounds (two depth layers per map face).
+    pub bounds: bool,
+    /// Bytes of its depth map, silhouette map and silhouette-map readback, and depth bounds.
     pub bytes: u64,
 }
 
@@ -26,8 +28,9 @@ impl std::fmt::Display for ShadowStorage {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let faces = if self.cube { "6 x " } else { "" };
         let silhouette = if self.silhouette { " + silhouette map" } else { "" };
+        let bounds = if self.bounds { " + depth bounds" } else { "" };
         let bytes = umbra_vk::human_bytes(self.bytes);
-        write!(f, "light {}: {faces}{}²{silhouette} = {bytes}", self.light, self.resolution)
+        write!(f, "light {}: {faces}{}²{silhouette}{bounds} = {bytes}", self.light, self.resolution)
     }
 }
 
@@ -60,7 +63,14 @@ mod tests {
     use super::*;
 
     fn cube(light: usize) -> ShadowStorage {
-        ShadowStorage { light, resolution: 2048, cube: true, silhouette: false, bytes: image_bytes(2048, 6, 4) }
+        ShadowStorage {
+            light,
+            resolution: 2048,
+            cube: true,
+            silhouette: false,
+            bounds: false,
+            bytes: image_bytes(2048, 6, 4),
+        }
     }
 
     #[test]

@@ -287,8 +287,9 @@ pub(crate) struct PlanInput<'a> {
     pub cull: bool,
     /// Whether the device has `depthBounds`.
     pub depth_bounds: bool,
-    /// Shadow-map resolution `auto` lights would get (the light's own size wins).
-    pub map_resolution: u32,
+    /// Shadow-map resolution `auto` lights would get (the light's own size wins); `None`: from
+    /// the frame, as the renderer sizes it.
+    pub map_resolution: Option<u32>,
 }
 
 /// Widening of range and cone for shadow-map casters: a lookup's filter reads texels beside
@@ -468,8 +469,11 @@ fn choose_auto(scene: &Scene, light: usize, input: &PlanInput<'_>, view_proj: &M
     let Some(views) = frustum::fit(l, scene, input.boxes, *view_proj) else {
         return (Technique::ShadowMap, "shadow_map: no caster can shadow a visible receiver".into());
     };
-    let resolution = l.shadow_map_size.unwrap_or(input.map_resolution);
     let seen = frustum::Seen { camera: input.camera, view_proj: *view_proj, height: input.size.1 };
+    let resolution = l
+        .shadow_map_size
+        .or(input.map_resolution)
+        .unwrap_or_else(|| frustum::resolution_from_frame(&views, seen, input.size.0));
     let reached = scene.objects.iter().enumerate().filter_map(|(o, object)| {
         let b = input.boxes.get(o).copied().flatten()?;
         (object.receives_shadows && reach::light_reaches(l, &b, 0.0).is_ok()).then_some((o, b))
@@ -508,7 +512,7 @@ mod tests {
     fn input(s: &Scene) -> PlanInput<'static> {
         let boxes: &'static [Option<Aabb>] = Box::leak(s.object_bounds().into_boxed_slice());
         let camera: &'static Camera = Box::leak(Box::new(s.camera));
-        PlanInput { boxes, camera, size: (256, 192), cull: true, depth_bounds: true, map_resolution: 1024 }
+        PlanInput { boxes, camera, size: (256, 192), cull: true, depth_bounds: true, map_resolution: Some(1024) }
     }
 
     #[test]
@@ -558,10 +562,10 @@ mod tests {
         let mut s = umbra_scene::procedural::build("ball").unwrap();
         s.lights[0].technique = Technique::Auto;
         let mut inp = input(&s);
-        inp.map_resolution = 8192;
+        inp.map_resolution = Some(8192);
         let fine = plan_frame(&s, &inp).unwrap();
         assert_eq!(fine[0].technique, Technique::ShadowMap, "{:?}", fine[0].auto_choice);
-        inp.map_resolution = 64;
+        inp.map_resolution = Some(64);
         let coarse = plan_frame(&s, &inp).unwrap();
         assert_eq!(coarse[0].technique, Technique::Hybrid, "{:?}", coarse[0].auto_choice);
         assert!(coarse[0].auto_choice.as_deref().unwrap().contains("Stamminger"));

@@ -45,6 +45,36 @@ impl Planes {
         })
     }
 
+    /// These planes and `other`'s: the intersection of both regions.
+    pub fn and(&self, other: &Planes) -> Planes {
+        Planes(self.0.iter().chain(&other.0).copied().collect())
+    }
+
+    /// The corners of the part of box `b` inside every plane, or none when no part is. The
+    /// part is convex, so its corners are the points where three of its bounding planes (the
+    /// box's six faces and these planes) meet that lie inside all of them; every point of the
+    /// part lies in their convex hull. A corner counts as inside within 10⁻⁵ of the box's
+    /// size, so a flat box (a floor quad) keeps its corners.
+    pub fn clip_box(&self, b: &Aabb) -> Vec<Vec3> {
+        let faces =
+            [Vec3::X, Vec3::Y, Vec3::Z].into_iter().flat_map(|n| [n.extend(-n.dot(b.min)), (-n).extend(n.dot(b.max))]);
+        let planes: Vec<Vec4> =
+            faces.chain(self.0.iter().map(|pl| *pl / pl.xyz().length())).filter(|pl| pl.is_finite()).collect();
+        let scale = b.min.abs().max(b.max.abs()).max(b.max - b.min).max_element().max(1e-6);
+        let tolerance = 1e-5 * scale;
+        let inside = |p: Vec3| planes.iter().all(|pl| pl.xyz().dot(p) + pl.w >= -tolerance);
+        let mut out = Vec::new();
+        for i in 0..planes.len() {
+            for j in i + 1..planes.len() {
+                for k in j + 1..planes.len() {
+                    let p = meet(planes[i], planes[j], planes[k]).filter(|&p| inside(p));
+                    out.extend(p);
+                }
+            }
+        }
+        out
+    }
+
     /// Whether the sphere may be inside.
     pub fn may_hold_sphere(&self, centre: Vec3, radius: f32) -> bool {
         self.0.iter().all(|pl| pl.xyz().dot(centre) + pl.w >= -radius * pl.xyz().length())
@@ -64,6 +94,17 @@ impl Planes {
             !separated
         })
     }
+}
+
+/// The point where three planes (unit normals) meet, or `None` when two are near parallel.
+fn meet(a: Vec4, b: Vec4, c: Vec4) -> Option<Vec3> {
+    let (na, nb, nc) = (a.xyz(), b.xyz(), c.xyz());
+    let det = na.dot(nb.cross(nc));
+    if det.abs() < 1e-6 {
+        return None;
+    }
+    let p = (nb.cross(nc) * -a.w + nc.cross(na) * -b.w + na.cross(nb) * -c.w) / det;
+    p.is_finite().then_some(p)
 }
 
 /// The eight corners of a box.
@@ -192,6 +233,32 @@ mod tests {
             near: 0.1,
             far: None,
         }
+    }
+
+    #[test]
+    fn a_clipped_box_keeps_only_what_the_view_holds() {
+        let planes = Planes::of(camera(), Clip::All);
+        // A 40 m floor quad (flat box): what the camera sees of it is far smaller, and every
+        // corner of that part lies on the floor, inside the view.
+        let floor = Aabb { min: Vec3::new(-20.0, 0.0, -20.0), max: Vec3::new(20.0, 0.0, 20.0) };
+        let part = planes.clip_box(&floor);
+        assert!(part.len() >= 3, "{part:?}");
+        let seen = part.iter().fold(Aabb::EMPTY, |mut a, &p| {
+            a.grow(p);
+            a
+        });
+        assert!(seen.max.x - seen.min.x < 40.0 && seen.max.z - seen.min.z < 40.0, "{seen:?}");
+        let loose = Planes(planes.0.iter().map(|pl| *pl + Vec4::W * 1e-3 * pl.xyz().length()).collect());
+        for p in &part {
+            assert!(p.y.abs() < 1e-4, "{p}");
+            assert!(loose.may_hold_box(&Aabb { min: *p, max: *p }), "{p} outside the view");
+        }
+        // A box the camera cannot see has no part; one wholly inside keeps its eight corners.
+        assert!(planes.clip_box(&unit_box(Vec3::new(0.0, 0.0, 20.0))).is_empty());
+        let inside = unit_box(Vec3::new(0.0, 0.0, -10.0));
+        let whole = planes.clip_box(&inside);
+        assert_eq!(whole.len(), 8, "{whole:?}");
+        assert!(corners(&inside).iter().all(|c| whole.iter().any(|p| p.distance(*c) < 1e-4)));
     }
 
     #[test]

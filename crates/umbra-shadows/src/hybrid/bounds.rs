@@ -25,7 +25,7 @@ use umbra_vk::{
 const FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
 /// Layers per map face: nearest, covering.
-const LAYERS_PER_FACE: u32 = 2;
+pub(crate) const LAYERS_PER_FACE: u32 = 2;
 
 /// One light's bounds image and a view per layer to render into.
 struct BoundsTarget {

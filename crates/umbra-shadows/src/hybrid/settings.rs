@@ -80,7 +80,8 @@ pub const COUNT_BITS: u32 = 0x7f;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct HybridSettings {
     /// Shadow-map texels per side (a light's `shadow_map_size` wins); `None`:
-    /// [`HybridSettings::default_resolution`], from the frame.
+    /// [`ShadowMapSettings::resolution_from_frame`](crate::ShadowMapSettings::resolution_from_frame),
+    /// from the frame.
     pub resolution: Option<u32>,
     /// The computation mask; `None`: [`MaskKind::best_for`] the device.
     pub mask: Option<MaskKind>,
@@ -90,50 +91,9 @@ pub struct HybridSettings {
     pub cull_blockers: bool,
 }
 
-impl HybridSettings {
-    /// The most map texels a default-sized hybrid map may have per pixel of the frame.
-    pub const TEXELS_PER_PIXEL_BUDGET: u32 = 4;
-
-    /// The default map size in a `width` × `height` frame, from the frame itself: `ratio` is
-    /// the largest Stamminger–Drettakis ratio (a texel's world size over a pixel's, where the
-    /// map lands on what the camera sees of the receivers) the light's views give at
-    /// `reference` texels per side. The size is the power of two that brings it to at most one
-    /// pixel, at least 64 and at most the budget: the largest power of two whose square holds
-    /// no more than [`Self::TEXELS_PER_PIXEL_BUDGET`] texels per frame pixel (256×192 → 256,
-    /// 1024×768 → 1024). Without a ratio (no visible receiver in a view): the budget.
-    pub fn default_resolution(ratio: Option<f32>, reference: u32, width: u32, height: u32) -> u32 {
-        let texels = u64::from(Self::TEXELS_PER_PIXEL_BUDGET) * u64::from(width) * u64::from(height);
-        let budget = pow2_floor(texels.isqrt().clamp(64, 1 << 16) as u32);
-        let Some(ratio) = ratio.filter(|r| r.is_finite() && *r > 0.0) else { return budget };
-        let needed = (f64::from(reference) * f64::from(ratio)).ceil().clamp(64.0, f64::from(budget)) as u32;
-        needed.next_power_of_two().min(budget)
-    }
-}
-
-/// The largest power of two not above `n` (n ≥ 1).
-fn pow2_floor(n: u32) -> u32 {
-    1 << (31 - n.max(1).leading_zeros())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn default_resolution_brings_a_texel_to_a_pixel_within_the_budget() {
-        let size = HybridSettings::default_resolution;
-        // The budget: 4 texels per pixel.
-        assert_eq!(size(None, 1024, 256, 192), 256);
-        assert_eq!(size(None, 1024, 1024, 768), 1024);
-        assert_eq!(size(None, 1024, 16, 16), 64);
-        // A texel 3 pixels wide at 64² needs 192 → 256; one 0.1 pixel wide at 1024² needs 103 → 128.
-        assert_eq!(size(Some(3.0), 64, 1024, 768), 256);
-        assert_eq!(size(Some(0.1), 1024, 1024, 768), 128);
-        // Never below 64, never above the budget, whatever the ratio.
-        assert_eq!(size(Some(1e-9), 1024, 1024, 768), 64);
-        assert_eq!(size(Some(1e9), 1024, 256, 192), 256);
-        assert_eq!(size(Some(f32::NAN), 1024, 256, 192), 256);
-    }
 
     #[test]
     fn mask_names_round_trip() {

@@ -7,7 +7,7 @@ use super::Renderer;
 use crate::budget::{self, ShadowStorage};
 use crate::gpu_scene::{GpuScene, GpuShadow};
 use crate::hybrid::cull::{self, CullingPlan};
-use crate::hybrid::{HybridSettings, MaskKind};
+use crate::hybrid::MaskKind;
 use crate::plan::SILHOUETTE_CUBE_UNSUPPORTED;
 use crate::plan::{plan_frame, tally, CullReason, PlanInput, ShadowMapReport, SilhouetteMapReport};
 use crate::shadow_map::frustum::{self, LightViews, MapKind};
@@ -166,25 +166,27 @@ impl Renderer {
                     why: SILHOUETTE_CUBE_UNSUPPORTED.into(),
                 });
             }
-            let (width, height) = (self.desc.width, self.desc.height);
-            let from_frame = || {
-                // The ratio at a reference size; texels shrink in proportion to the size.
-                const REFERENCE: u32 = 1024;
-                let ratio = frustum::texel_pixel_ratio(&views, REFERENCE, view.seen(height));
-                HybridSettings::default_resolution(ratio, REFERENCE, width, height)
-            };
-            let resolution = source.shadow_map_size.unwrap_or(match needs(plan.technique).map {
-                Some(MapSize::Hybrid) => self.desc.hybrid.resolution.unwrap_or_else(from_frame),
+            let set = match needs(plan.technique).map {
+                Some(MapSize::Hybrid) => self.desc.hybrid.resolution,
                 Some(MapSize::Settings) | None => settings.resolution,
+            };
+            let resolution = source.shadow_map_size.or(set).unwrap_or_else(|| {
+                frustum::resolution_from_frame(&views, view.seen(self.desc.height), self.desc.width)
             });
-            let mut bytes = self.shadow_map.check(&self.ctx, plan.light, resolution, views.kind)?;
+            let map_bytes = self.shadow_map.check(&self.ctx, plan.light, resolution, views.kind)?;
+            let mut bytes = map_bytes;
             if silhouette {
                 let map = self.silhouette_map.check(&self.ctx, plan.light, resolution)?;
                 // With diagnostics the map is also read back, as many bytes again.
                 bytes += if self.diagnostic_targets.is_some() { 2 * map } else { map };
             }
+            // The hybrid's depth bounds: two layers per face of the map's D32 depth.
+            let bounds = needs(plan.technique).map == Some(MapSize::Hybrid);
+            if bounds {
+                bytes += u64::from(crate::hybrid::bounds::LAYERS_PER_FACE) * map_bytes;
+            }
             let cube = views.kind == MapKind::Cube;
-            storage.push(ShadowStorage { light: plan.light, resolution, cube, silhouette, bytes });
+            storage.push(ShadowStorage { light: plan.light, resolution, cube, silhouette, bounds, bytes });
             fitted[plan.light] = Some(map_frame(views, resolution, silhouette));
         }
         budget::check(&storage, self.desc.shadow_map_budget_bytes)?;

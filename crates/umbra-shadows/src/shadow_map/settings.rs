@@ -93,9 +93,10 @@ impl DepthBias {
 /// How a light's shadow map is made and read.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ShadowMapSettings {
-    /// Texels per side (cube maps: per face), 64 up to the device limit. A light's
+    /// Texels per side (cube maps: per face), 64 up to the device limit; `None`: per light,
+    /// from the frame ([`ShadowMapSettings::resolution_from_frame`]). A light's
     /// `shadow_map_size` overrides it.
-    pub resolution: u32,
+    pub resolution: Option<u32>,
     /// Lookup filter.
     pub filter: ShadowFilter,
     /// Depth bias of the shadow pass.
@@ -111,16 +112,35 @@ impl ShadowMapSettings {
     /// Smallest accepted resolution.
     pub const MIN_RESOLUTION: u32 = 64;
 
-    /// The defaults: 2048², hardware 2×2 PCF, bias (constant 2, slope 2.5), no normal offset,
+    /// The defaults: map size from the frame, hardware 2×2 PCF, bias (constant 2, slope 2.5), no normal offset,
     /// outside lit. The bias leaves no acne on the `cubes` floor at 60° incidence
     /// (`tests/shadow_map.rs` checks a plane at 60° and 75°) with every filter.
     pub const DEFAULT: Self = Self {
-        resolution: 2048,
+        resolution: None,
         filter: ShadowFilter::Pcf2x2,
         bias: DepthBias { constant: 2.0, slope: 2.5, clamp_texels: None },
         normal_offset: 0.0,
         outside_lit: true,
     };
+
+    /// The most map texels a map sized from the frame may have per pixel of the frame.
+    pub const TEXELS_PER_PIXEL_BUDGET: u32 = 4;
+
+    /// The map size, from the frame itself, of a light whose size nobody set (shadow maps,
+    /// silhouette maps and the hybrid alike), in a `width` × `height` frame: `ratio` is the
+    /// largest Stamminger–Drettakis ratio (a texel's world size over a pixel's, where the map
+    /// lands on what the camera sees of the receivers) the light's views give at `reference`
+    /// texels per side. The size is the power of two that brings it to at most one pixel, at
+    /// least 64 and at most the budget: the largest power of two whose square holds no more than
+    /// [`Self::TEXELS_PER_PIXEL_BUDGET`] texels per frame pixel (256×192 → 256, 1024×768 →
+    /// 1024, 1920×1080 → 2048). Without a ratio (no visible receiver in a view): the budget.
+    pub fn resolution_from_frame(ratio: Option<f32>, reference: u32, width: u32, height: u32) -> u32 {
+        let texels = u64::from(Self::TEXELS_PER_PIXEL_BUDGET) * u64::from(width) * u64::from(height);
+        let budget = pow2_floor(texels.isqrt().clamp(64, 1 << 16) as u32);
+        let Some(ratio) = ratio.filter(|r| r.is_finite() && *r > 0.0) else { return budget };
+        let needed = (f64::from(reference) * f64::from(ratio)).ceil().clamp(64.0, f64::from(budget)) as u32;
+        needed.next_power_of_two().min(budget)
+    }
 
     /// Largest accepted `normal_offset`, in world units (a lookup moved further than this
     /// leaves any scene umbra ships; scale the scene instead).
@@ -147,6 +167,11 @@ impl ShadowMapSettings {
     }
 }
 
+/// The largest power of two not above `n` (n ≥ 1).
+fn pow2_floor(n: u32) -> u32 {
+    1 << (31 - n.max(1).leading_zeros())
+}
+
 /// `value` must be finite and in `0..=max`.
 fn check_range(field: &'static str, value: f32, max: f32) -> RenderResult<()> {
     if value.is_finite() && (0.0..=max).contains(&value) {
@@ -168,6 +193,23 @@ impl Default for ShadowMapSettings {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn resolution_from_frame_brings_a_texel_to_a_pixel_within_the_budget() {
+        let size = ShadowMapSettings::resolution_from_frame;
+        // The budget: 4 texels per pixel.
+        assert_eq!(size(None, 1024, 256, 192), 256);
+        assert_eq!(size(None, 1024, 1024, 768), 1024);
+        assert_eq!(size(None, 1024, 1920, 1080), 2048);
+        assert_eq!(size(None, 1024, 16, 16), 64);
+        // A texel 3 pixels wide at 64² needs 192 → 256; one 0.1 pixel wide at 1024² needs 103 → 128.
+        assert_eq!(size(Some(3.0), 64, 1024, 768), 256);
+        assert_eq!(size(Some(0.1), 1024, 1024, 768), 128);
+        // Never below 64, never above the budget, whatever the ratio.
+        assert_eq!(size(Some(1e-9), 1024, 1024, 768), 64);
+        assert_eq!(size(Some(1e9), 1024, 256, 192), 256);
+        assert_eq!(size(Some(f32::NAN), 1024, 256, 192), 256);
+    }
 
     #[test]
     fn non_finite_negative_and_absurd_values_are_refused_by_name() {
