@@ -73,6 +73,7 @@ fn main() -> anyhow::Result<()> {
         overdraw: args.show_volumes,
         ..ShadowVolumeSettings::default()
     };
+    args.common.apply_score(&mut desc);
     if args.common.window {
         return common::window::run(&args.common, "shadow_volume", scene, desc);
     }
@@ -107,5 +108,6 @@ fn main() -> anyhow::Result<()> {
             if max == 255 { ", saturated" } else { "" }
         );
     }
+    common::print_score(&args.common, &scene, &frame)?;
     common::check_validation(&ctx)
 }

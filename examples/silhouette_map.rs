@@ -29,10 +29,12 @@ use umbra::shadows::{LightDiagnostics, Renderer, RendererDesc, ShadowMapSettings
 struct Args {
     #[command(flatten)]
     common: common::CommonArgs,
-    /// Depth-map and silhouette-map resolution, texels per side: at least 64, at most what the
-    /// device takes (checked per light, naming the limit).
-    #[arg(long, default_value_t = 512, value_parser = common::flags::parse_sm_size)]
-    sm_size: u32,
+    /// Depth-map and silhouette-map resolution, texels per side (default: from the frame, a
+    /// texel about a pixel on what the camera sees, within a budget; see
+    /// ShadowMapSettings::resolution_from_frame): at least 64, at most what the device takes
+    /// (checked per light, naming the limit).
+    #[arg(long, value_parser = common::flags::parse_sm_size)]
+    sm_size: Option<u32>,
     /// Also write the silhouette-point and classification views and the silhouette map.
     #[arg(long)]
     debug_view: bool,
@@ -77,7 +79,8 @@ fn main() -> anyhow::Result<()> {
     }
     let (width, height) = args.common.size;
     let mut desc = RendererDesc::new(width, height);
-    desc.shadow_map = ShadowMapSettings { resolution: Some(args.sm_size), ..ShadowMapSettings::DEFAULT };
+    desc.shadow_map = ShadowMapSettings { resolution: args.sm_size, ..ShadowMapSettings::DEFAULT };
+    args.common.apply_score(&mut desc);
     // The silhouette-pixel count comes from the diagnostics pass (left out of the total).
     desc.diagnostics = true;
     if args.common.window {
@@ -107,5 +110,6 @@ fn main() -> anyhow::Result<()> {
             write_debug_views(&args, &frame, d)?;
         }
     }
+    common::print_score(&args.common, &scene, &frame)?;
     common::check_validation(&ctx)
 }
