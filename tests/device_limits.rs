@@ -199,17 +199,26 @@ fn the_shadow_map_budget_is_checked_before_any_map_is_allocated() {
         let frame = enough.render(&spot).expect("within the budget");
         assert_eq!(frame.report.lights[0].shadow_map.as_ref().map(|m| m.resolution), Some(1024));
 
-        // The hybrid's light also holds its depth bounds, two more layers of the map's size.
+        // A hybrid light holds its depth bounds, two layers of the map's size, and its depth
+        // map only with blocker culling (which queries it).
         let mut hybrid = spot.clone();
         hybrid.lights[0].technique = umbra::scene::Technique::Hybrid;
-        let sized = |d: &mut RendererDesc, budget| {
-            d.hybrid.resolution = Some(1024);
-            d.shadow_map_budget_bytes = budget;
-        };
-        let err = renderer(ctx, |d| sized(d, 3 * map - 1)).render(&hybrid).expect_err("one byte short");
-        assert!(matches!(&err, RenderError::ShadowBudget { bytes, .. } if *bytes == 3 * map), "{err}");
-        assert!(err.to_string().contains("light 0: 1024² + depth bounds = 12 MiB"), "{err}");
-        renderer(ctx, |d| sized(d, 3 * map)).render(&hybrid).expect("within the budget");
+        for (cull, layers, text) in
+            [(false, 2, "light 0: 1024² depth bounds = 8 MiB"), (true, 3, "light 0: 1024² + depth bounds = 12 MiB")]
+        {
+            let sized = |d: &mut RendererDesc, budget| {
+                d.hybrid.resolution = Some(1024);
+                d.hybrid.cull_blockers = cull;
+                d.shadow_map_budget_bytes = budget;
+            };
+            let err = renderer(ctx, |d| sized(d, layers * map - 1)).render(&hybrid).expect_err("one byte short");
+            assert!(matches!(&err, RenderError::ShadowBudget { bytes, .. } if *bytes == layers * map), "{err}");
+            assert!(err.to_string().contains(text), "{err}");
+            let frame = renderer(ctx, |d| sized(d, layers * map)).render(&hybrid).expect("within the budget");
+            // The depth map is drawn only where something reads it.
+            let drawn = frame.report.passes.iter().any(|p| p.name == "shadow_map 0");
+            assert_eq!(drawn, cull, "{:?}", frame.report.passes.iter().map(|p| &p.name).collect::<Vec<_>>());
+        }
     });
 }
 

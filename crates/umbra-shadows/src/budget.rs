@@ -16,6 +16,9 @@ pub struct ShadowStorage {
     pub resolution: u32,
     /// Whether its depth map is a cube (six faces).
     pub cube: bool,
+    /// Whether it has a depth map (a hybrid light without blocker culling has only its depth
+    /// bounds, of the same size).
+    pub depth: bool,
     /// Whether it also has a silhouette map (and, with diagnostics, its readback).
     pub silhouette: bool,
     /// Whether it also has the hybrid's depth bounds (two depth layers per map face).
@@ -28,7 +31,11 @@ impl std::fmt::Display for ShadowStorage {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let faces = if self.cube { "6 x " } else { "" };
         let silhouette = if self.silhouette { " + silhouette map" } else { "" };
-        let bounds = if self.bounds { " + depth bounds" } else { "" };
+        let bounds = match (self.bounds, self.depth) {
+            (false, _) => "",
+            (true, true) => " + depth bounds",
+            (true, false) => " depth bounds",
+        };
         let bytes = umbra_vk::human_bytes(self.bytes);
         write!(f, "light {}: {faces}{}²{silhouette}{bounds} = {bytes}", self.light, self.resolution)
     }
@@ -67,6 +74,7 @@ mod tests {
             light,
             resolution: 2048,
             cube: true,
+            depth: true,
             silhouette: false,
             bounds: false,
             bytes: image_bytes(2048, 6, 4),

@@ -16,7 +16,7 @@ pub(crate) struct HybridQueries {
     pub fragments: Option<QueryId>,
 }
 
-/// Declares light `h.light`'s passes after its shadow map `map` and depth bounds `bounds`;
+/// Declares light `h.light`'s passes after its depth bounds `bounds`;
 /// `h.mask_query` is set here.
 /// `fragments`: count the masked volume fragments (`overdraw`); `readback`: copy the classes
 /// and the stencil out (diagnostics).
@@ -24,7 +24,6 @@ pub(crate) fn declare_light<'a>(
     stage: &mut Stage<'a>,
     pass: &'a HybridPass,
     mut h: HybridLight<'a>,
-    map: &'a Image,
     bounds: &'a Image,
     fragments: bool,
     readback: Option<&'a ClassReadback>,
@@ -38,8 +37,7 @@ pub(crate) fn declare_light<'a>(
     let l = h.light;
 
     let classify = [Use::Image(h.visibility, Color), Use::Image(classes, Color), Use::Image(h.depth, Depth)];
-    let reads = [Use::Image(map, Read), Use::Image(bounds, Read)];
-    stage.pass(PassId::HybridClassify(l), &[&classify[..], &reads].concat(), move |cx| {
+    stage.pass(PassId::HybridClassify(l), &[&classify[..], &[Use::Image(bounds, Read)]].concat(), move |cx| {
         pass.record_classify(cx, &h);
         Ok(())
     });
@@ -48,8 +46,7 @@ pub(crate) fn declare_light<'a>(
         true => vec![Use::Image(h.depth, ImageState::TransferSrc), Use::Image(target, ImageState::TransferDst)],
         false => vec![Use::Image(h.depth, Depth)],
     };
-    let reads = [Use::Image(classes, Read), Use::Image(map, Read)];
-    stage.pass(PassId::ComputationMask(l), &[&mask_uses[..], &reads].concat(), move |cx| {
+    stage.pass(PassId::ComputationMask(l), &[&mask_uses[..], &[Use::Image(classes, Read)]].concat(), move |cx| {
         pass.record_mask(cx, &h);
         Ok(())
     });

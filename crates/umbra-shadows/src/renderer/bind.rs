@@ -24,7 +24,7 @@ impl Renderer {
         let (l, plan) = (light.light(), &light.plan);
         let layout = &self.shadow_set_layout;
         let mut out = LightSets::default();
-        let has_map = light.map.is_some().then_some(l);
+        let has_map = light.map.as_ref().is_some_and(|m| m.depth).then_some(l);
         if plan.recorded {
             let technique_image = match (light.hybrid(), self.hybrid.classes()) {
                 (true, Some(classes)) => classes,

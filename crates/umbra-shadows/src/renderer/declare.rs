@@ -106,21 +106,23 @@ impl Renderer {
         for light in f.lights.iter().filter(|l| l.plan.recorded) {
             let l = light.light();
             let Some(map) = &light.map else { continue };
-            let image = self.shadow_map.image(l)?;
-            stage.pass(PassId::ShadowMap(l), &[Use::Image(image, Depth)], move |cx| {
-                let (views, first_view) = (&map.views, map.shadow.first_view);
-                self.shadow_map.record(
-                    cx.rec,
-                    &self.layout,
-                    f.gpu,
-                    f.scene,
-                    l,
-                    views,
-                    first_view,
-                    map.bias_clamp,
-                    cx.log,
-                )
-            });
+            if map.depth {
+                let image = self.shadow_map.image(l)?;
+                stage.pass(PassId::ShadowMap(l), &[Use::Image(image, Depth)], move |cx| {
+                    let (views, first_view) = (&map.views, map.shadow.first_view);
+                    self.shadow_map.record(
+                        cx.rec,
+                        &self.layout,
+                        f.gpu,
+                        f.scene,
+                        l,
+                        views,
+                        first_view,
+                        map.bias_clamp,
+                        cx.log,
+                    )
+                });
+            }
             if light.hybrid() {
                 let bounds = self.hybrid.bounds.image(Some(l));
                 stage.pass(PassId::HybridBounds(l), &[Use::Image(bounds, Depth)], move |cx| {
@@ -129,7 +131,7 @@ impl Renderer {
                 });
             }
             let (Some(e), Some(depth_set)) = (light.edges, &f.bindings[l].depth_set) else { continue };
-            let target = self.silhouette_map.image(Some(l));
+            let (target, image) = (self.silhouette_map.image(Some(l)), self.shadow_map.image(l)?);
             stage.pass(PassId::SilhouetteMap(l), &[Use::Image(target, Color), Use::Image(image, Read)], move |cx| {
                 self.silhouette_map.record_points(cx.rec, &self.layout, f.gpu, depth_set, l, f.edges, e, cx.log)
             });
@@ -280,15 +282,15 @@ impl Renderer {
             zfail: self.shadow_volume.zfail(),
             mask_query: QueryId(0),
         };
-        let (map, bounds) = (self.shadow_map.image(l)?, self.hybrid.bounds.image(Some(l)));
+        let bounds = self.hybrid.bounds.image(Some(l));
         let readback = f.bindings[l].class_readback;
-        Ok(hybrid_frame::declare_light(stage, &self.hybrid, h, map, bounds, self.overdraw.is_some(), readback))
+        Ok(hybrid_frame::declare_light(stage, &self.hybrid, h, bounds, self.overdraw.is_some(), readback))
     }
 
     /// The images a light's lighting passes sample: its shadow map and silhouette map.
     fn light_reads(&self, light: &LightFrame) -> RenderResult<Vec<Use<'_>>> {
         let mut reads = Vec::new();
-        if light.map.is_some() {
+        if light.map.as_ref().is_some_and(|m| m.depth) {
             reads.push(Use::Image(self.shadow_map.image(light.light())?, Read));
         }
         if light.edges.is_some() {

@@ -42,6 +42,10 @@ pub(super) struct MapFrame {
     pub resolution: u32,
     /// Whether it is also a silhouette map's depth map.
     pub silhouette: bool,
+    /// Whether its depth map is made and drawn: by every map technique but the hybrid without
+    /// blocker culling, whose classification reads only its depth bounds (the views still
+    /// place them), so a depth map there could not change the image.
+    pub depth: bool,
     /// What the lighting passes read of it.
     pub shadow: GpuShadow,
     /// Depth-bias clamp in map depth units (0: none, or no `depthBiasClamp`).

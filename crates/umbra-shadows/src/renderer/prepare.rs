@@ -70,7 +70,7 @@ impl Renderer {
         streams: &mut Streams,
     ) -> RenderResult<Vec<Mat4>> {
         let mut fitted = self.fit_maps(scene, view, lights)?;
-        let keep: Vec<bool> = fitted.iter().map(Option::is_some).collect();
+        let keep: Vec<bool> = fitted.iter().map(|m| m.as_ref().is_some_and(|m| m.depth)).collect();
         self.shadow_map.keep_only(&keep);
         let silhouette: Vec<bool> = fitted.iter().map(|m| m.as_ref().is_some_and(|m| m.silhouette)).collect();
         self.silhouette_map.keep_only(&silhouette);
@@ -82,7 +82,9 @@ impl Renderer {
             let (l, resolution, views) = (light.light(), map.resolution, &map.views);
             let seen = view.seen(self.desc.height);
             let source = &scene.lights[l];
-            self.shadow_map.prepare(&self.ctx, l, resolution, views.kind)?;
+            if map.depth {
+                self.shadow_map.prepare(&self.ctx, l, resolution, views.kind)?;
+            }
             map.shadow = GpuShadow {
                 kind: match (views.kind, map.silhouette) {
                     (MapKind::Cube, _) => 2,
@@ -174,20 +176,22 @@ impl Renderer {
                 frustum::resolution_from_frame(&views, view.seen(self.desc.height), self.desc.width)
             });
             let map_bytes = self.shadow_map.check(&self.ctx, plan.light, resolution, views.kind)?;
-            let mut bytes = map_bytes;
+            // The hybrid's depth bounds: two layers per face of the map's D32 depth; its depth
+            // map only where blocker culling queries it.
+            let bounds = needs(plan.technique).map == Some(MapSize::Hybrid);
+            let depth = !bounds || self.desc.hybrid.cull_blockers;
+            let mut bytes = if depth { map_bytes } else { 0 };
             if silhouette {
                 let map = self.silhouette_map.check(&self.ctx, plan.light, resolution)?;
                 // With diagnostics the map is also read back, as many bytes again.
                 bytes += if self.diagnostic_targets.is_some() { 2 * map } else { map };
             }
-            // The hybrid's depth bounds: two layers per face of the map's D32 depth.
-            let bounds = needs(plan.technique).map == Some(MapSize::Hybrid);
             if bounds {
                 bytes += u64::from(crate::hybrid::bounds::LAYERS_PER_FACE) * map_bytes;
             }
             let cube = views.kind == MapKind::Cube;
-            storage.push(ShadowStorage { light: plan.light, resolution, cube, silhouette, bounds, bytes });
-            fitted[plan.light] = Some(map_frame(views, resolution, silhouette));
+            storage.push(ShadowStorage { light: plan.light, resolution, cube, depth, silhouette, bounds, bytes });
+            fitted[plan.light] = Some(map_frame(views, resolution, silhouette, depth));
         }
         budget::check(&storage, self.desc.shadow_map_budget_bytes)?;
         Ok(fitted)
@@ -325,6 +329,6 @@ impl Renderer {
     }
 }
 
-fn map_frame(views: LightViews, resolution: u32, silhouette: bool) -> MapFrame {
-    MapFrame { views, resolution, silhouette, shadow: GpuShadow::default(), bias_clamp: 0.0 }
+fn map_frame(views: LightViews, resolution: u32, silhouette: bool, depth: bool) -> MapFrame {
+    MapFrame { views, resolution, silhouette, depth, shadow: GpuShadow::default(), bias_clamp: 0.0 }
 }
