@@ -86,11 +86,12 @@ impl LightViews {
 /// holds each object's world bounds (`Scene::object_bounds`).
 ///
 /// Only what the camera sees sizes the map: each receiver's box is cut to the camera's
-/// frustum (a 40 m floor becomes the few metres in view), and only casters that can shadow
-/// such a part are kept (spot and directional lights: they overlap it as the light sees it
-/// and reach nearer the light than its farthest point). The map covers where kept casters and
-/// seen parts overlap as the light sees them, so every visible receiver point a caster can
-/// shadow lies inside it, and any other is lit whatever the map holds.
+/// frustum (a 40 m floor becomes the few metres in view). A directional light keeps only the
+/// casters that can shadow such a part (they overlap it as the light sees it and reach nearer
+/// the light than its farthest point), and its map covers where they overlap, so every visible
+/// receiver point a caster can shadow lies inside it and any other is lit whatever the map
+/// holds. Spot maps keep their cone and point lights their cube; their far planes reach the
+/// farthest seen part.
 pub(crate) fn fit(light: &Light, scene: &Scene, boxes: &[Option<Aabb>], camera_view_proj: Mat4) -> Option<LightViews> {
     let bounds = |i: usize| boxes.get(i).copied().flatten();
     let casters: Vec<(usize, Aabb)> = (0..scene.objects.len())
