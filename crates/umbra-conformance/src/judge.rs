@@ -305,9 +305,11 @@ fn map_explains(light: &Light, bvh: &SceneBvh, map: Option<&ShadowMapReport>, s:
 /// Where [`map_explains`] looks for a change of the true shadow around a point at `ndc` of a
 /// `resolution`² map, as offsets in units of the band (`TEXEL_BAND` texels): first the eight
 /// points of the band's square (its x and y and the diagonals), then the centre of every texel
-/// of the map inside that square. The map decided the pixel from those texels' samples, so a
-/// caster narrower than a texel (a thin arm, a twig) that one of them hit is found there even
-/// when it passes between the eight points.
+/// of the map inside that square, then a grid of 1/8 texel over the square. The map decided
+/// the pixel from those texels' samples, so a caster narrower than a texel (a thin arm, a
+/// twig) that one of them hit is found there even when it passes between the eight points;
+/// the grid finds shadows thinner still (a needle's) that the rasterizer, snapping vertices,
+/// put under a centre the exact needle misses.
 fn band_samples(ndc: glam::Vec2, resolution: u32) -> impl Iterator<Item = (f32, f32)> {
     let ring = [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0), (1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)];
     let size = resolution as f32;
@@ -320,7 +322,12 @@ fn band_samples(ndc: glam::Vec2, resolution: u32) -> impl Iterator<Item = (f32, 
         let d = (centre - texel) / TEXEL_BAND;
         (d.x.abs() <= 1.0 && d.y.abs() <= 1.0).then_some((d.x, d.y))
     });
-    ring.into_iter().chain(centres)
+    // Last, a grid of 1/8 texel over the whole band: a shadow thinner than a texel (a needle's)
+    // that passes between the map's own centres.
+    const FINE: i32 = 8 * TEXEL_BAND as i32;
+    let fine =
+        (-FINE..=FINE).flat_map(|j| (-FINE..=FINE).map(move |i| (i as f32 / FINE as f32, j as f32 / FINE as f32)));
+    ring.into_iter().chain(centres).chain(fine)
 }
 
 /// The first caster point the light sees on its ray through `q`: what its depth map stores
