@@ -15,11 +15,12 @@
 //! - **Shadow maps and silhouette maps** decide from depth samples one texel apart, so a wrong
 //!   pixel is explained within [`TEXEL_BAND`] texels of a change of the true shadow, measured
 //!   on the receiver: the pixel's surface point is moved by ±`TEXEL_BAND` texels in the
-//!   light's own map (eight directions, the map's x and y and the diagonals), and to the
-//!   centre of every map texel within `TEXEL_BAND` texels of it (the samples the map decided
-//!   from: a caster thinner than a texel that one of them hit can pass between the eight
-//!   points), projected back along the light's rays onto the receiver's plane, and the exact
-//!   shadow ray is cast from there; if any disagrees with the pixel's, the pixel is in the band.
+//!   light's own map (eight directions, the map's x and y and the diagonals), to the centre of
+//!   every map texel within `TEXEL_BAND` texels of it (the samples the map decided from: a
+//!   caster thinner than a texel that one of them hit can pass between the eight points), and
+//!   to a grid of 1/8 texel over the band (needle shadows thinner still), projected back along
+//!   the light's rays onto the receiver's plane, and the exact shadow ray is cast from there;
+//!   if any disagrees with the pixel's, the pixel is in the band.
 //!   The band also covers discontinuities of the map's depth field: if the first caster the
 //!   light sees through one of those eight neighbours is not on the pixel's plane (a crease
 //!   of the receiver, another object, a silhouette), the map's samples around the pixel are
