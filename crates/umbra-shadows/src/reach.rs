@@ -45,6 +45,11 @@ impl Planes {
         })
     }
 
+    /// These planes and `other`'s: the intersection of both regions.
+    pub fn and(&self, other: &Planes) -> Planes {
+        Planes(self.0.iter().chain(&other.0).copied().collect())
+    }
+
     /// The corners of the part of box `b` inside every plane, or none when no part is. The
     /// part is convex, so its corners are the points where three of its bounding planes (the
     /// box's six faces and these planes) meet that lie inside all of them; every point of the

@@ -90,8 +90,9 @@ impl LightViews {
 /// casters that can shadow such a part (they overlap it as the light sees it and reach nearer
 /// the light than its farthest point), and its map covers where they overlap, so every visible
 /// receiver point a caster can shadow lies inside it and any other is lit whatever the map
-/// holds. Spot maps keep their cone and point lights their cube; their far planes reach the
-/// farthest seen part.
+/// holds. A spot light keeps the same casters (cut to its cone), its near plane in front of
+/// them, but its map keeps the cone's extent; point lights keep every caster and their cube.
+/// Far planes reach the farthest seen part.
 pub(crate) fn fit(light: &Light, scene: &Scene, boxes: &[Option<Aabb>], camera_view_proj: Mat4) -> Option<LightViews> {
     let bounds = |i: usize| boxes.get(i).copied().flatten();
     let casters: Vec<(usize, Aabb)> = (0..scene.objects.len())
@@ -231,10 +232,14 @@ fn near_plane(nearest_caster: f32, far: f32) -> (f32, f32) {
 }
 
 /// Spot lights: a perspective frustum around the cone (2 × outer angle plus a margin, so the
-/// cone's edge never meets the map's border), over every caster. Only its receivers are the
-/// seen parts. Cutting the frustum off-axis to them waits for a bias that holds at hard case
-/// 07's coordinates (docs/techniques/shadow-maps.md: the narrower window's smaller texels
-/// shrink the slope-scaled bias below the error at 10⁵–10⁶ units).
+/// cone's edge never meets the map's border) over the casters that can shadow what the camera
+/// sees of a receiver inside the cone: as the light sees them (directions x/depth, y/depth and
+/// depth along the axis, every part first cut to the cone) they overlap such a part and reach
+/// nearer the light than its farthest point. The near plane sits in front of the nearest kept
+/// caster part, the far plane beyond the farthest seen part. Cutting the frustum off-axis to
+/// that overlap as well waits for a bias that holds at hard case 07's coordinates
+/// (docs/techniques/shadow-maps.md: the narrower window's smaller texels shrink the
+/// slope-scaled bias below the depth error of its huge, clipped floor triangles).
 fn spot(
     light: &Light,
     casters: &[(usize, Aabb)],
@@ -244,20 +249,36 @@ fn spot(
     let p = light.position.xyz();
     let s = light.spot.unwrap_or(umbra_scene::Spot { direction: -Vec3::Y, inner_deg: 30.0, outer_deg: 30.0 });
     let axis = s.direction.normalize();
-    let boxes: Vec<Aabb> = casters.iter().map(|c| c.1).collect();
-    let seen = seen_parts(receivers, view);
-    if seen.is_empty() {
-        return None;
-    }
-    // Depth along the spot's axis, not distance: the nearest caster corner along the axis.
-    let nearest = boxes.iter().flat_map(crate::reach::corners).map(|c| (c - p).dot(axis)).fold(f32::INFINITY, f32::min);
-    let (near, far) = near_plane(nearest, far_from(p, &boxes, &seen));
     let fov = (2.0 * (s.outer_deg + SPOT_MARGIN_DEG)).to_radians();
     let light_view = Mat4::look_at_rh(p, p + axis, any_up(axis));
+    let cone = Planes::of(Mat4::perspective_rh(fov, 1.0, 1.0, 2.0) * light_view, Clip::Sides);
+    let t = (fov * 0.5).tan();
+    // A part reaching the light itself spans every direction of the cone.
+    let directions = |points: &[Vec3]| {
+        let mut b = Aabb::EMPTY;
+        for q in points {
+            let v = light_view.transform_point3(*q);
+            let depth = -v.z;
+            if depth > 1e-6 * t {
+                b.grow((v.truncate() / depth).extend(depth));
+            } else {
+                b.grow(Vec3::new(-t, -t, 0.0));
+                b.grow(Vec3::new(t, t, 0.0));
+            }
+        }
+        (!b.is_empty()).then_some(b)
+    };
+    let cs: Vec<Aabb> = casters.iter().map(|c| directions(&cone.clip_box(&c.1)).unwrap_or(Aabb::EMPTY)).collect();
+    let parts = cut(receivers, &view.and(&cone));
+    let rs: Vec<Aabb> = parts.iter().filter_map(|part| directions(part)).collect();
+    let Overlap { region, kept } = overlap(&cs, &rs)?;
+    let seen: Vec<Aabb> = parts.iter().filter_map(|part| bounds_of(part, &Mat4::IDENTITY)).collect();
+    let kept_boxes: Vec<Aabb> = kept.iter().map(|&k| casters[k].1).collect();
+    let (near, far) = near_plane(region.min.z, far_from(p, &kept_boxes, &seen));
     let proj = Mat4::perspective_rh(fov, 1.0, near, far);
     let mut views = LightViews::new(MapKind::Single, vec![proj * light_view], near, far);
     views.receivers = seen;
-    Some((views, casters.iter().map(|c| c.0).collect()))
+    Some((views, kept.into_iter().map(|k| casters[k].0).collect()))
 }
 
 /// Right, up and forward of the six cube faces in Vulkan's layer order (+X, -X, +Y, -Y, +Z,
@@ -557,5 +578,20 @@ mod tests {
         shadowed_floor_lies_in_the_map(towards.extend(0.0), &v, &[caster]);
         // With only the far caster nothing visible can be shadowed.
         assert!(directional(towards, &[(1, far_away)], &[FLOOR], &camera()).is_none());
+    }
+
+    #[test]
+    fn spot_fit_keeps_the_casters_that_can_shadow_what_the_camera_sees() {
+        let caster = Aabb { min: Vec3::new(-0.3, 1.0, -0.3), max: Vec3::new(0.3, 1.2, 0.3) };
+        // Inside the cone, but its shadow falls on the floor far out of view.
+        let aside = Aabb { min: Vec3::new(5.0, 1.0, -5.5), max: Vec3::new(5.5, 1.5, -5.0) };
+        let light = Light::spot(Vec3::new(0.5, 4.0, 0.5), -Vec3::Y, 60.0, 70.0, 1.0);
+        let (v, kept) = spot(&light, &[(0, caster), (1, aside)], &[FLOOR], &camera()).unwrap();
+        assert_eq!(kept, vec![0]);
+        shadowed_floor_lies_in_the_map(light.position, &v, &[caster]);
+        // The near plane sits in front of the kept caster's top (2.8 below the light), not at
+        // a ten-thousandth of the far plane.
+        assert!(v.near > 2.0 && v.near < 2.8, "near {}", v.near);
+        assert!(spot(&light, &[(1, aside)], &[FLOOR], &camera()).is_none());
     }
 }
