@@ -141,7 +141,11 @@ pub(crate) fn fit(light: &Light, scene: &Scene, boxes: &[Option<Aabb>], camera_v
 
 /// The world boxes of what `planes` hold of each of `receivers` (those with no part left out).
 fn seen_parts(receivers: &[Aabb], planes: &Planes) -> Vec<Aabb> {
-    let parts = cut(receivers, planes);
+    world_boxes(&cut(receivers, planes))
+}
+
+/// The world box of each part.
+fn world_boxes(parts: &[Vec<Vec3>]) -> Vec<Aabb> {
     parts.iter().filter_map(|part| bounds_of(part, &Mat4::IDENTITY)).collect()
 }
 
@@ -197,7 +201,7 @@ fn directional(
     view: &Planes,
 ) -> Option<(LightViews, Vec<usize>)> {
     let parts = cut(receivers, view);
-    let seen: Vec<Aabb> = parts.iter().filter_map(|part| bounds_of(part, &Mat4::IDENTITY)).collect();
+    let seen = world_boxes(&parts);
     let all = casters.iter().map(|c| &c.1).chain(&seen).fold(Aabb::EMPTY, |a, b| a.union(*b));
     let dir = towards_light.normalize();
     let eye = all.center() + dir * (2.0 * all.radius() + 1.0);
@@ -272,7 +276,7 @@ fn spot(
     let parts = cut(receivers, &view.and(&cone));
     let rs: Vec<Aabb> = parts.iter().filter_map(|part| directions(part)).collect();
     let Overlap { region, kept } = overlap(&cs, &rs)?;
-    let seen: Vec<Aabb> = parts.iter().filter_map(|part| bounds_of(part, &Mat4::IDENTITY)).collect();
+    let seen = world_boxes(&parts);
     let kept_boxes: Vec<Aabb> = kept.iter().map(|&k| casters[k].1).collect();
     let (near, far) = near_plane(region.min.z, far_from(p, &kept_boxes, &seen));
     let proj = Mat4::perspective_rh(fov, 1.0, near, far);
