@@ -97,6 +97,15 @@ pub enum RenderError {
         /// Its name.
         name: String,
     },
+    /// An argument is wrong (an id that names nothing, a frame slot out of range, a depth
+    /// buffer umbra cannot use) or a call came out of order; `field` names what.
+    #[error("{field}: {why}")]
+    InvalidInput {
+        /// The argument or field (`FrameInputs::depth.format`, `InstanceId(7)`, …).
+        field: String,
+        /// What is wrong with it, and what would be accepted.
+        why: String,
+    },
     /// Writing an output file failed.
     #[error("writing {path}: {message}")]
     Output {

@@ -15,9 +15,10 @@
 //! - the hybrid: its classification writes the map-decided pixels, `hybrid visibility N` the
 //!   silhouette pixels from their stencil counts (`hybrid/classify.frag`, `hybrid/resolve.frag`).
 //!
-//! One image is reused by every light of a frame (each light's passes run to its lighting pass
-//! before the next light's begin); RG32F keeps the filtered fractions exact, so the lighting is
-//! bit for bit what it was when each pass did its own lookup.
+//! Each shadowed light has an image of its own (made when the light first needs it, kept while
+//! it does), so that every light's shadows are recorded before any light is lit, as an engine
+//! records umbra's shadows before its own lighting; RG32F keeps the filtered fractions exact,
+//! so the lighting is bit for bit what it was when each pass did its own lookup.
 
 use crate::forward::{self, Bounded, PassBounds};
 use crate::gpu_scene::GpuScene;
@@ -87,17 +88,25 @@ impl VisibilityImage {
     }
 }
 
-/// The frame-sized image, the set the lighting reads it through and the pipelines that write
-/// it for shadow-map, silhouette-map and shadow-volume lights.
-pub(crate) struct VisibilityPass {
+/// One shadowed light's frame-sized visibility image and the set its lighting reads it through.
+pub(crate) struct LightVisibility {
     pub image: Image,
-    /// Set 2 of the lighting pass: the image, fetched per pixel.
+    /// Set 2 of the light's lighting pass: the image, fetched per pixel.
     pub set: DescriptorSet,
+}
+
+/// The shadowed lights' images, the placeholder set of unshadowed lights and the pipelines that
+/// write the images for shadow-map, silhouette-map and shadow-volume lights.
+pub(crate) struct VisibilityPass {
+    /// Per light, its image while it is shadowed.
+    images: Vec<Option<LightVisibility>>,
+    width: u32,
+    height: u32,
     /// Set 2 of an unshadowed light's lighting pass, which never reads it: a 1×1 placeholder.
     pub unshadowed_set: DescriptorSet,
     _placeholder: Image,
-    _set_layout: DescriptorSetLayout,
-    _sampler: Sampler,
+    set_layout: DescriptorSetLayout,
+    sampler: Sampler,
     map: Bounded,
     /// Shadow volumes: where the stencil count is 0, and where it is not.
     stencil_lit: Bounded,
@@ -119,8 +128,9 @@ pub(crate) fn image_desc(width: u32, height: u32) -> ImageDesc {
 }
 
 impl VisibilityPass {
-    /// The image for a `width` × `height` frame, its set (of `set_layout`, kept) and the pipelines
-    /// (against the renderer's `layout`; with `depth_bounds`, their depth-bounds twins).
+    /// The images' size (`width` × `height`), their sets' layout (`set_layout`, kept) and the
+    /// pipelines (against the renderer's `layout`; with `depth_bounds`, their depth-bounds
+    /// twins). No light's image is made yet ([`VisibilityPass::keep`]).
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         ctx: &Context,
@@ -132,14 +142,8 @@ impl VisibilityPass {
         height: u32,
         depth_bounds: bool,
     ) -> RenderResult<Self> {
-        let image = Image::new(ctx, "visibility image", image_desc(width, height))?;
         let sampler = Sampler::new(ctx, "visibility sampler (nearest)", SamplerDesc::NEAREST_CLAMP)?;
-        let read = |image: &Image| Resource::SampledImage {
-            view: image.view,
-            sampler: sampler.raw,
-            layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-        };
-        let set = DescriptorSet::new(ctx, "visibility set", &set_layout, &[read(&image)])?;
+        let read = |image: &Image| sampled(image, &sampler);
         // Bound, never read (its contents stay undefined): the pipeline uses set 2 statically.
         let desc = ImageDesc::new_2d(VISIBILITY_FORMAT, 1, 1).usage(vk::ImageUsageFlags::SAMPLED);
         let placeholder = Image::new(ctx, "no visibility image", desc)?;
@@ -166,15 +170,41 @@ impl VisibilityPass {
         let stencil_lit = stencil("visibility (stencil == 0)", true, vk::CompareOp::EQUAL)?;
         let stencil_shadowed = stencil("visibility (stencil != 0)", false, vk::CompareOp::NOT_EQUAL)?;
         Ok(Self {
-            image,
-            set,
+            images: Vec::new(),
+            width,
+            height,
             unshadowed_set,
             _placeholder: placeholder,
-            _set_layout: set_layout,
-            _sampler: sampler,
+            set_layout,
+            sampler,
             map,
             stencil_lit,
             stencil_shadowed,
+        })
+    }
+
+    /// Keeps an image for every light `shadowed` marks (made where missing) and releases the
+    /// others.
+    pub fn keep(&mut self, ctx: &Context, shadowed: &[bool]) -> RenderResult<()> {
+        crate::budget::release_unused(&mut self.images, shadowed);
+        self.images.resize_with(shadowed.len(), || None);
+        for (l, (kept, &wanted)) in self.images.iter_mut().zip(shadowed).enumerate() {
+            if wanted && kept.is_none() {
+                let image =
+                    Image::new(ctx, &format!("visibility image (light {l})"), image_desc(self.width, self.height))?;
+                let name = format!("visibility set (light {l})");
+                let set = DescriptorSet::new(ctx, &name, &self.set_layout, &[sampled(&image, &self.sampler)])?;
+                *kept = Some(LightVisibility { image, set });
+            }
+        }
+        Ok(())
+    }
+
+    /// Light `light`'s image and set (kept by [`VisibilityPass::keep`]).
+    pub fn light(&self, light: usize) -> RenderResult<&LightVisibility> {
+        self.images.get(light).and_then(Option::as_ref).ok_or_else(|| RenderError::InvalidInput {
+            field: format!("visibility image of light {light}"),
+            why: "recorded before it was kept".into(),
         })
     }
 
@@ -216,6 +246,11 @@ impl VisibilityPass {
             forward::draw_objects(rec, layout, gpu, scene, light, log);
         }
     }
+}
+
+/// A visibility image as the lighting samples it (nearest, in `FragmentRead`).
+fn sampled<'a>(image: &Image, sampler: &Sampler) -> Resource<'a> {
+    Resource::SampledImage { view: image.view, sampler: sampler.raw, layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL }
 }
 
 /// A host-visible copy of one light's visibility image, kept from frame to frame.

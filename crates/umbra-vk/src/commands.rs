@@ -63,11 +63,15 @@ pub struct RenderTargets<'s, 'a> {
     pub depth: Option<DepthAttachment<'a>>,
 }
 
-/// A command buffer being recorded; submit it with [`Context::submit_and_wait`].
+/// A command buffer being recorded: one umbra began (submit it with
+/// [`Context::submit_and_wait`]) or an engine's ([`Context::record_into`]), which umbra only
+/// records into.
 pub struct Recorder<'a> {
     ctx: Context,
     cmd: vk::CommandBuffer,
     labels: u32,
+    /// Whether umbra allocated `cmd` (and frees it when dropped).
+    owned: bool,
     _borrows: PhantomData<&'a ()>,
 }
 
@@ -82,7 +86,7 @@ impl Context {
         // SAFETY: the pool is externally synchronised by its mutex.
         let cmd = unsafe { self.inner.device.allocate_command_buffers(&info) }.call("vkAllocateCommandBuffers")?[0];
         drop(pool);
-        let rec = Recorder { ctx: self.clone(), cmd, labels: 0, _borrows: PhantomData };
+        let rec = Recorder { ctx: self.clone(), cmd, labels: 0, owned: true, _borrows: PhantomData };
         let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
         // SAFETY: fresh command buffer, recorded from this thread only.
         unsafe { self.inner.device.begin_command_buffer(cmd, &begin) }.call("vkBeginCommandBuffer")?;
@@ -90,8 +94,24 @@ impl Context {
         Ok(rec)
     }
 
-    /// Ends, submits and waits for a recording. Open labels are closed first.
+    /// A recorder over `cmd`, a primary command buffer of this context's device that the
+    /// engine allocated and began and still records (the engine's frame). umbra records its
+    /// commands into it and nothing else: it never begins, ends, submits, waits for or frees
+    /// it. Labels opened through the recorder are closed when it is dropped. The engine must
+    /// keep every object recorded alive until the buffer completed.
+    pub fn record_into<'a>(&self, cmd: vk::CommandBuffer) -> Recorder<'a> {
+        Recorder { ctx: self.clone(), cmd, labels: 0, owned: false, _borrows: PhantomData }
+    }
+
+    /// Ends, submits and waits for a recording. Open labels are closed first. A recorder over
+    /// an engine's command buffer ([`Context::record_into`]) is refused: the engine submits it.
     pub fn submit_and_wait(&self, mut rec: Recorder<'_>) -> VkResult<()> {
+        if !rec.owned {
+            return Err(crate::VkError::InvalidDesc {
+                what: "submit_and_wait",
+                why: "the recorder records into an engine's command buffer, which the engine submits".into(),
+            });
+        }
         while rec.labels > 0 {
             rec.end_label();
         }
@@ -126,6 +146,13 @@ impl Context {
 
 impl Drop for Recorder<'_> {
     fn drop(&mut self) {
+        if !self.owned {
+            // The engine's buffer: close what this recorder opened, leave the rest to it.
+            while self.labels > 0 {
+                self.end_label();
+            }
+            return;
+        }
         if let Ok(pool) = self.ctx.inner.command_pool.lock() {
             // SAFETY: the buffer finished executing (submit waits) or was never submitted.
             unsafe { self.ctx.inner.device.free_command_buffers(*pool, &[self.cmd]) };

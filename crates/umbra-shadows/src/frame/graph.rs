@@ -137,17 +137,38 @@ impl FrameGraph {
         self.submissions
     }
 
-    /// Records `stage`, submits it and waits for it; returns its passes' reports and queries.
+    /// Records `stage` into a command buffer of its own, submits it and waits for it; returns
+    /// its passes' reports and queries.
     pub fn run<'a>(&'a mut self, ctx: &Context, stage: Stage<'a>) -> RenderResult<StageResults> {
+        self.submissions += 1;
+        let mut rec = ctx.begin_commands(stage.name)?;
+        let recorded = self.record(ctx, &mut rec, stage)?;
+        rec.transfer_to_host(&recorded.readbacks);
+        let waiting = std::time::Instant::now();
+        ctx.submit_and_wait(rec)?;
+        let submit_wait_ms = waiting.elapsed().as_secs_f64() * 1e3;
+        let mut results = recorded.results()?;
+        results.submit_wait_ms = submit_wait_ms;
+        Ok(results)
+    }
+
+    /// Records `stage` into `rec` (a command buffer umbra or the engine began): around every
+    /// pass the barrier into the states it declared, its debug label and two timestamps, with
+    /// the stage's query pools reset first. Read the results with [`RecordedStage::results`] once
+    /// the commands completed.
+    pub fn record<'a>(
+        &'a mut self,
+        ctx: &Context,
+        rec: &mut Recorder<'a>,
+        stage: Stage<'a>,
+    ) -> RenderResult<RecordedStage<'a>> {
         let timestamps = 2 * stage.passes.len() as u32;
         if ctx.capabilities().timestamps {
             reserve(ctx, &mut self.timestamps, stage.slot, "pass timestamps", QueryKind::Timestamp, timestamps)?;
         }
         reserve(ctx, &mut self.occlusion, stage.slot, "occlusion queries", QueryKind::Occlusion, stage.queries)?;
-        self.submissions += 1;
         let (timer, queries) = (pool(&self.timestamps, stage.slot), pool(&self.occlusion, stage.slot));
         let states = &mut self.states;
-        let mut rec = ctx.begin_commands(stage.name)?;
         for p in [timer, queries].into_iter().flatten() {
             rec.reset_queries(p);
         }
@@ -166,34 +187,55 @@ impl FrameGraph {
                 Use::Readback(buffer) => Some(buffer),
                 Use::Image(..) => None,
             }));
-            states.enter(&mut rec, &images);
+            states.enter(rec, &images);
             rec.begin_label(&pass.id.name());
             if let Some(t) = timer {
                 rec.write_timestamp(t, 2 * i as u32);
             }
             let mut log = PassLog::default();
-            (pass.record)(&mut PassRecorder { rec: &mut rec, log: &mut log, states, queries })?;
+            (pass.record)(&mut PassRecorder { rec, log: &mut log, states, queries })?;
             if let Some(t) = timer {
                 rec.write_timestamp(t, 2 * i as u32 + 1);
             }
             rec.end_label();
             passes.push(log.report(pass.id));
         }
-        rec.transfer_to_host(&readbacks);
-        let waiting = std::time::Instant::now();
-        ctx.submit_and_wait(rec)?;
-        let submit_wait_ms = waiting.elapsed().as_secs_f64() * 1e3;
+        Ok(RecordedStage {
+            passes,
+            timer,
+            queries: queries.filter(|_| stage.queries > 0),
+            count: stage.queries,
+            readbacks,
+        })
+    }
+}
+
+/// A stage recorded into a command buffer, its results not read yet.
+pub(crate) struct RecordedStage<'a> {
+    passes: Vec<PassReport>,
+    timer: Option<&'a QueryPool>,
+    queries: Option<&'a QueryPool>,
+    count: u32,
+    /// The readbacks its passes copied into, for the host to read once it completed.
+    pub readbacks: Vec<&'a Buffer>,
+}
+
+impl RecordedStage<'_> {
+    /// A recorded stage's passes' reports with their GPU times, and its occlusion queries'
+    /// samples, once its commands completed.
+    pub fn results(self) -> RenderResult<StageResults> {
+        let RecordedStage { mut passes, timer, queries, count, .. } = self;
         if let (Some(t), false) = (timer, passes.is_empty()) {
-            let stamps = t.first_results(timestamps)?;
+            let stamps = t.first_results(2 * passes.len() as u32)?;
             for (i, p) in passes.iter_mut().enumerate() {
                 p.gpu_ms = Some(t.elapsed_ns(&stamps, 2 * i, 2 * i + 1) / 1e6);
             }
         }
-        let samples = match (queries, stage.queries) {
-            (Some(q), n) if n > 0 => q.first_results(n)?,
-            _ => Vec::new(),
+        let samples = match queries {
+            Some(q) => q.first_results(count)?,
+            None => Vec::new(),
         };
-        Ok(StageResults { passes, samples, submit_wait_ms })
+        Ok(StageResults { passes, samples, submit_wait_ms: 0.0 })
     }
 }
 

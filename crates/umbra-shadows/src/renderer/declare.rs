@@ -1,7 +1,7 @@
 //! The frame's passes, declared in order into the frame graph: first the lights' views (shadow
-//! maps, silhouette points, blocker culling), then `ambient`, the optional `g-buffer`, per
-//! recorded light its technique's passes and lighting plus the diagnostics asked for, and
-//! `readback`. Each pass names the images it uses; the graph emits the barriers, labels and
+//! maps, silhouette points, blocker culling), then `ambient`, the optional `g-buffer`, every
+//! recorded light's shadows (its technique's passes writing its visibility image, plus the
+//! diagnostics asked for), every recorded light's lighting, and `readback`. Each pass names the images it uses; the graph emits the barriers, labels and
 //! timestamps (`crate::frame`).
 
 use super::lights::{LightBindings, LightFrame, LightQueries, LightSets};
@@ -170,8 +170,9 @@ impl Renderer {
         Ok(first)
     }
 
-    /// `ambient`, `g-buffer`, every recorded light's passes, `readback`; returns each light's
-    /// queries and whether the overdraw image was drawn.
+    /// `ambient`, `g-buffer`, every recorded light's shadows, then every recorded light's
+    /// lighting, `readback`; returns each light's queries and whether the overdraw image was
+    /// drawn.
     fn declare_lighting<'a>(
         &'a self,
         stage: &mut Stage<'a>,
@@ -199,6 +200,22 @@ impl Renderer {
                 Ok(())
             });
         }
+        let (queries, overdraw) = self.declare_shadows(stage, f)?;
+        for light in f.lights.iter().filter(|l| l.plan.recorded && f.bindings[l.light()].shadow_set.is_some()) {
+            self.declare_light(stage, f, light, queries[light.light()].shadowed)?;
+        }
+        self.declare_readback(stage, overdraw);
+        Ok((queries, overdraw))
+    }
+
+    /// Every recorded light's shadows, before any light is lit: its visibility image (and its
+    /// copy), then the diagnostics asked for. Returns each light's queries and whether the
+    /// overdraw image was drawn.
+    fn declare_shadows<'a>(
+        &'a self,
+        stage: &mut Stage<'a>,
+        f: FrameInputs<'a>,
+    ) -> RenderResult<(Vec<LightQueries>, bool)> {
         let mut queries = vec![LightQueries::default(); f.lights.len()];
         let mut overdraw = false;
         for light in f.lights.iter().filter(|l| l.plan.recorded) {
@@ -207,9 +224,8 @@ impl Renderer {
             let reads = self.light_reads(light)?;
             let shadowed = self.declare_visibility(stage, f, light, shadow_set, &reads, &mut queries[l])?;
             queries[l].shadowed = shadowed;
-            self.declare_light(stage, f, light, shadowed);
             if let (true, Some(out)) = (shadowed, f.bindings[l].visibility_readback) {
-                let (image, src) = (&self.visibility.image, ImageState::TransferSrc);
+                let (image, src) = (&self.visibility.light(l)?.image, ImageState::TransferSrc);
                 stage.pass(
                     PassId::VisibilityReadback(l),
                     &[Use::Image(image, src), Use::Readback(&out.buffer)],
@@ -224,7 +240,6 @@ impl Renderer {
             overdraw |= queries[l].volume_fragments.is_some();
             self.declare_silhouette_diagnostics(stage, f, light, &reads);
         }
-        self.declare_readback(stage, overdraw);
         Ok((queries, overdraw))
     }
 
@@ -247,11 +262,11 @@ impl Renderer {
             }
             // A hybrid light without a map this frame is shadowed by its volumes alone.
             (Some(volumes), Some(vertices)) => {
-                self.declare_stencil_visibility(stage, f, light, volumes, vertices);
+                self.declare_stencil_visibility(stage, f, light, volumes, vertices)?;
                 Ok(true)
             }
             _ if light.map.is_some() => {
-                self.declare_map_visibility(stage, f, light, shadow_set, reads);
+                self.declare_map_visibility(stage, f, light, shadow_set, reads)?;
                 Ok(true)
             }
             _ => Ok(false),
@@ -275,7 +290,7 @@ impl Renderer {
             gpu: f.gpu,
             scene: f.scene,
             shadow_set,
-            visibility: &self.visibility.image,
+            visibility: &self.visibility.light(l)?.image,
             depth: &self.depth,
             volumes,
             vertices: f.volumes,
@@ -308,7 +323,7 @@ impl Renderer {
         light: &'a LightFrame,
         volumes: &'a LightVolumes,
         vertices: &'a Buffer,
-    ) {
+    ) -> RenderResult<()> {
         let (l, bounds, depth) = (light.light(), light_bounds(light), &self.depth);
         stage.pass(PassId::ShadowVolume(l), &[Use::Image(depth, Depth)], move |cx| {
             let stencil = DepthAttachment::clearing_stencil(depth, 0);
@@ -318,13 +333,14 @@ impl Renderer {
             cx.rec.end_rendering();
             Ok(())
         });
-        let image = &self.visibility.image;
+        let image = &self.visibility.light(l)?.image;
         stage.pass(PassId::StencilVisibility(l), &[Use::Image(image, Color), Use::Image(depth, Depth)], move |cx| {
             over_surfaces(cx.rec, image, Some([0.0; 4]), depth);
             self.visibility.record_stencil(cx.rec, &self.layout, f.gpu, f.scene, l as u32, bounds, cx.log);
             cx.rec.end_rendering();
             Ok(())
         });
+        Ok(())
     }
 
     /// A shadow-map or silhouette-map light: `visibility N`, its map looked up at every surface.
@@ -335,8 +351,9 @@ impl Renderer {
         light: &'a LightFrame,
         shadow_set: &'a DescriptorSet,
         reads: &[Use<'a>],
-    ) {
-        let (l, bounds, depth, image) = (light.light(), light_bounds(light), &self.depth, &self.visibility.image);
+    ) -> RenderResult<()> {
+        let (l, bounds, depth) = (light.light(), light_bounds(light), &self.depth);
+        let image = &self.visibility.light(l)?.image;
         let uses = [&[Use::Image(image, Color), Use::Image(depth, Depth)], reads].concat();
         stage.pass(PassId::MapVisibility(l), &uses, move |cx| {
             over_surfaces(cx.rec, image, Some([0.0; 4]), depth);
@@ -345,17 +362,28 @@ impl Renderer {
             cx.rec.end_rendering();
             Ok(())
         });
+        Ok(())
     }
 
     /// `light N (kind)`: the light's Lambert term times its visibility image (`shadowed`), or
     /// unshadowed.
-    fn declare_light<'a>(&'a self, stage: &mut Stage<'a>, f: FrameInputs<'a>, light: &'a LightFrame, shadowed: bool) {
+    fn declare_light<'a>(
+        &'a self,
+        stage: &mut Stage<'a>,
+        f: FrameInputs<'a>,
+        light: &'a LightFrame,
+        shadowed: bool,
+    ) -> RenderResult<()> {
         let (l, bounds, depth) = (light.light(), light_bounds(light), &self.depth);
         let mut uses = vec![Use::Image(&self.color, Color), Use::Image(depth, Depth)];
-        if shadowed {
-            uses.push(Use::Image(&self.visibility.image, Read));
-        }
-        let set = if shadowed { &self.visibility.set } else { &self.visibility.unshadowed_set };
+        let set = match shadowed {
+            true => {
+                let own = self.visibility.light(l)?;
+                uses.push(Use::Image(&own.image, Read));
+                &own.set
+            }
+            false => &self.visibility.unshadowed_set,
+        };
         let visibility = (set, shadowed);
         stage.pass(PassId::Light(l, light.plan.kind), &uses, move |cx| {
             over_surfaces(cx.rec, &self.color, None, depth);
@@ -364,6 +392,7 @@ impl Renderer {
             cx.rec.end_rendering();
             Ok(())
         });
+        Ok(())
     }
 
     /// With diagnostics, a shadow-map or shadow-volume light's classification (and the

@@ -303,6 +303,8 @@ impl Renderer {
             let masked_depth = self.mask == MaskKind::DepthBounds;
             self.hybrid.prepare(&self.ctx, self.desc.width, self.desc.height, masked_depth)?;
         }
+        let shadowed: Vec<bool> = lights.iter().map(LightFrame::may_shadow).collect();
+        self.visibility.keep(&self.ctx, &shadowed)?;
         let keep: Vec<bool> = lights.iter().map(LightFrame::hybrid).collect();
         self.hybrid.bounds.keep_only(&keep);
         for light in lights.iter().filter(|l| l.hybrid()) {
