@@ -247,7 +247,7 @@ pub(crate) fn check_limits(caps: &Capabilities, counts: SceneCounts) -> RenderRe
 }
 
 impl GpuScene {
-    /// Uploads `scene` as seen by `camera` with `aspect` (width / height), with each light's shadow-map
+    /// Uploads `scene` as seen from `view`, with each light's shadow-map
     /// parameters (`shadows[i]` for light `i`) and every shadow view-projection. The meshes are
     /// uploaded only when `previous` does not hold them as they are now, and `previous`'s
     /// per-frame buffers are rewritten where they are large enough.
@@ -256,8 +256,7 @@ impl GpuScene {
         ctx: &Context,
         layout: &DescriptorSetLayout,
         scene: &Scene,
-        camera: &umbra_scene::Camera,
-        aspect: f32,
+        view: &crate::view::View,
         shadows: &[GpuShadow],
         shadow_views: &[Mat4],
         previous: Option<GpuScene>,
@@ -271,10 +270,9 @@ impl GpuScene {
         let reused = previous_geometry.filter(|g| g.holds(scene));
         let packed = if reused.is_none() { Some(pack_meshes(&scene.meshes)) } else { None };
 
-        let c = camera;
         let frame = FrameUniforms {
-            view_proj: c.view_proj(aspect).to_cols_array(),
-            camera_position: c.position.extend(1.0).to_array(),
+            view_proj: view.view_proj.to_cols_array(),
+            camera_position: view.position.extend(1.0).to_array(),
             ambient: scene.ambient.extend(0.0).to_array(),
         };
         let objects: Vec<GpuObject> = scene

@@ -31,6 +31,7 @@ pub mod silhouette_map;
 mod streams;
 mod technique;
 mod timing;
+mod view;
 pub mod visibility;
 
 pub use budget::{ShadowStorage, DEFAULT_SHADOW_MAP_BUDGET};

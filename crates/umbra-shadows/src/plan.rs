@@ -29,7 +29,8 @@ use crate::technique::{needs, Casters};
 use crate::{RenderError, RenderResult};
 use glam::{Mat4, Vec4Swizzles};
 use serde::Serialize;
-use umbra_scene::{Aabb, Camera, LightKind, Scene, Technique};
+use crate::view::View;
+use umbra_scene::{Aabb, LightKind, Scene, Technique};
 
 /// Why casters were left out of a light's shadow passes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
@@ -279,8 +280,8 @@ pub(crate) const SILHOUETTE_CUBE_UNSUPPORTED: &str =
 pub(crate) struct PlanInput<'a> {
     /// Each object's world bounds (`Scene::object_bounds`).
     pub boxes: &'a [Option<Aabb>],
-    /// The camera the frame renders with (far plane at infinity with shadow volumes).
-    pub camera: &'a Camera,
+    /// The view the frame renders with (far plane at infinity with shadow volumes).
+    pub view: &'a View,
     /// Target width and height in pixels.
     pub size: (u32, u32),
     /// Whether to cull (`RendererDesc::cull`).
@@ -308,8 +309,7 @@ struct ViewVolume {
 
 /// Decides, per light, what to record.
 pub(crate) fn plan_frame(scene: &Scene, input: &PlanInput<'_>) -> RenderResult<Vec<LightPlan>> {
-    let (width, height) = input.size;
-    let view_proj = input.camera.view_proj(width as f32 / height as f32);
+    let view_proj = input.view.view_proj;
     let view = Planes::of(view_proj, Clip::All);
     let sides = Planes::of(view_proj, Clip::Sides);
     let visible: Vec<bool> = input.boxes.iter().map(|b| b.as_ref().is_some_and(|b| view.may_hold_box(b))).collect();
@@ -389,7 +389,7 @@ fn plan_light(
         plan.skipped_because = Some(why.into());
         return Ok(plan);
     }
-    if let (Some(f), false) = (reach::footprint(l, input.camera, width, height), !needs(plan.technique).bounded) {
+    if let (Some(f), false) = (reach::footprint(l, input.view, width, height), !needs(plan.technique).bounded) {
         plan.scissor = Some(f.scissor);
         plan.depth_bounds = input.depth_bounds.then_some(f.depth);
     }
@@ -469,7 +469,7 @@ fn choose_auto(scene: &Scene, light: usize, input: &PlanInput<'_>, view_proj: &M
     let Some(views) = frustum::fit(l, scene, input.boxes, *view_proj) else {
         return (Technique::ShadowMap, "shadow_map: no caster can shadow a visible receiver".into());
     };
-    let seen = frustum::Seen { camera: input.camera, view_proj: *view_proj, height: input.size.1 };
+    let seen = frustum::Seen { view: input.view, height: input.size.1 };
     let resolution = l
         .shadow_map_size
         .or(input.map_resolution)
@@ -511,8 +511,8 @@ mod tests {
 
     fn input(s: &Scene) -> PlanInput<'static> {
         let boxes: &'static [Option<Aabb>] = Box::leak(s.object_bounds().into_boxed_slice());
-        let camera: &'static Camera = Box::leak(Box::new(s.camera));
-        PlanInput { boxes, camera, size: (256, 192), cull: true, depth_bounds: true, map_resolution: Some(1024) }
+        let view: &'static View = Box::leak(Box::new(View::of_camera(&s.camera, 256.0 / 192.0)));
+        PlanInput { boxes, view, size: (256, 192), cull: true, depth_bounds: true, map_resolution: Some(1024) }
     }
 
     #[test]

@@ -4,7 +4,8 @@
 //! "certainly not" never changes the image.
 
 use glam::{Mat4, Vec3, Vec4, Vec4Swizzles};
-use umbra_scene::{Aabb, Camera, Light};
+use crate::view::View;
+use umbra_scene::{Aabb, Light};
 
 /// Clip-space planes of a view-projection (Vulkan: 0 ≤ z ≤ w), each a `Vec4` (n, d) with
 /// n·p + d ≥ 0 inside. Planes with a vanishing normal (the far plane of an infinite
@@ -177,17 +178,17 @@ pub(crate) struct Footprint {
     pub depth: [f32; 2],
 }
 
-/// The footprint of `light` seen by `camera` on a `width` × `height` target (with a y-up
+/// The footprint of `light` seen from `view` on a `width` × `height` target (with a y-up
 /// viewport, as the renderer sets it). The sphere's bounding cube in view space is projected:
 /// depth grows with view distance, so its corners bound both the rectangle and the depth range.
-pub(crate) fn footprint(light: &Light, camera: &Camera, width: u32, height: u32) -> Option<Footprint> {
+pub(crate) fn footprint(light: &Light, view: &View, width: u32, height: u32) -> Option<Footprint> {
     let range = light.bounded_range()?;
-    let centre = camera.view().transform_point3(light.position.xyz());
+    let centre = view.view.transform_point3(light.position.xyz());
     // View space looks down -z: the sphere must lie wholly beyond the near plane.
-    if -centre.z - range <= camera.near {
+    if -centre.z - range <= view.near {
         return None;
     }
-    let proj = camera.projection(width as f32 / height as f32);
+    let proj = view.proj;
     let cube = Aabb { min: centre - Vec3::splat(range), max: centre + Vec3::splat(range) };
     let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
     for c in corners(&cube) {
@@ -215,6 +216,7 @@ pub(crate) fn footprint(light: &Light, camera: &Camera, width: u32, height: u32)
 #[cfg(test)]
 mod tests {
     use super::*;
+    use umbra_scene::Camera;
 
     fn unit_box(at: Vec3) -> Aabb {
         Aabb { min: at - Vec3::splat(0.5), max: at + Vec3::splat(0.5) }
@@ -302,7 +304,7 @@ mod tests {
     fn a_footprint_holds_the_projected_sphere() {
         let l = Light::point(Vec3::new(1.0, 0.5, 0.0), 1.0).with_range(1.0);
         let vp = camera();
-        let f = footprint(&l, &eye(), 256, 192).unwrap();
+        let f = footprint(&l, &View::of_camera(&eye(), 256.0 / 192.0), 256, 192).unwrap();
         let [x, y, w, h] = f.scissor;
         assert!(w > 0 && h > 0 && w < 256 && h < 192, "{f:?}");
         // Points on the sphere project inside the rectangle and depth range.
@@ -318,6 +320,6 @@ mod tests {
         }
         // A sphere around the camera covers anything.
         let around = Light::point(Vec3::new(0.0, 0.0, 9.0), 1.0).with_range(2.0);
-        assert!(footprint(&around, &eye(), 256, 192).is_none());
+        assert!(footprint(&around, &View::of_camera(&eye(), 256.0 / 192.0), 256, 192).is_none());
     }
 }

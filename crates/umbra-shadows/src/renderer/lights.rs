@@ -11,18 +11,14 @@ use crate::shadow_volume::build::LightVolumes;
 use crate::silhouette_map::edges::LightEdges;
 use crate::technique::{needs, Lighting};
 use crate::visibility::VisibilityReadback;
-use glam::Mat4;
-use umbra_scene::{Aabb, Camera};
+use crate::view::View;
+use umbra_scene::Aabb;
 use umbra_vk::DescriptorSet;
 
-/// The camera of a frame and the bounds every step uses.
+/// The view of a frame and the bounds every step uses.
 pub(super) struct FrameView {
-    /// The camera drawn with (`P_inf` when shadow volumes need it).
-    pub camera: Camera,
-    /// Its view-projection.
-    pub view_proj: Mat4,
-    /// Width over height.
-    pub aspect: f32,
+    /// The view drawn with (`P_inf` when shadow volumes need it).
+    pub view: View,
     /// Each object's world bounds (`Scene::object_bounds`).
     pub boxes: Vec<Option<Aabb>>,
 }
@@ -30,7 +26,7 @@ pub(super) struct FrameView {
 impl FrameView {
     /// What its camera sees, for a frame of `height` pixel rows.
     pub fn seen(&self, height: u32) -> crate::shadow_map::frustum::Seen<'_> {
-        crate::shadow_map::frustum::Seen { camera: &self.camera, view_proj: self.view_proj, height }
+        crate::shadow_map::frustum::Seen { view: &self.view, height }
     }
 }
 

@@ -20,6 +20,7 @@ use crate::silhouette_map::edges;
 use crate::streams::Streams;
 use crate::technique::{needs, MapSize, Volumes};
 use crate::{RenderError, RenderResult};
+use crate::view::View;
 use glam::Mat4;
 use std::sync::Arc;
 use umbra_scene::{Adjacency, Scene};
@@ -35,7 +36,7 @@ impl Renderer {
             true => volumes::volume_camera(&scene.camera, self.desc.shadow_volume.far_plane == FarPlane::Infinite),
             false => scene.camera,
         };
-        FrameView { view_proj: camera.view_proj(aspect), camera, aspect, boxes: scene.object_bounds() }
+        FrameView { view: View::of_camera(&camera, aspect), boxes: scene.object_bounds() }
     }
 
     /// Per light, what to record and which casters enter its passes (`crate::plan`).
@@ -44,7 +45,7 @@ impl Renderer {
             scene,
             &PlanInput {
                 boxes: &view.boxes,
-                camera: &view.camera,
+                view: &view.view,
                 size: (self.desc.width, self.desc.height),
                 cull: self.desc.cull,
                 depth_bounds: self.desc.cull && self.ctx.capabilities().depth_bounds,
@@ -149,7 +150,7 @@ impl Renderer {
         for light in lights.iter_mut().filter(|l| uses_map(l)) {
             let plan = &mut light.plan;
             let source = &scene.lights[plan.light];
-            let Some(mut views) = frustum::fit(source, scene, &view.boxes, view.view_proj) else {
+            let Some(mut views) = frustum::fit(source, scene, &view.boxes, view.view.view_proj) else {
                 plan.note = Some("no caster can shadow a visible receiver: no shadow map rendered".into());
                 continue;
             };
@@ -218,15 +219,14 @@ impl Renderer {
             };
             let mode = wanted.mode(self.desc.shadow_volume.mode);
             let source = &scene.lights[plan.light];
-            let (boxes, camera) = (&view.boxes, &view.camera);
+            let boxes = &view.boxes;
             let v = volumes::build_light(
                 scene,
                 &plan.volume_casters,
                 adjacency,
                 boxes,
                 source,
-                camera,
-                view.aspect,
+                &view.view,
                 mode,
                 &mut vertices,
             );
@@ -245,7 +245,7 @@ impl Renderer {
                 clip::clip_light(
                     scene,
                     position,
-                    view.view_proj,
+                    view.view.view_proj,
                     &vertices,
                     &mut v.casters,
                     &mut clipped,
@@ -318,8 +318,7 @@ impl Renderer {
             &self.ctx,
             &self.scene_set_layout,
             scene,
-            &view.camera,
-            view.aspect,
+            &view.view,
             &shadows,
             shadow_views,
             self.gpu.take(),

@@ -9,7 +9,8 @@
 
 use crate::reach::{Clip, Planes};
 use glam::{Mat4, Vec3, Vec4, Vec4Swizzles};
-use umbra_scene::{Aabb, Camera, Light, LightKind, Scene};
+use crate::view::View;
+use umbra_scene::{Aabb, Light, LightKind, Scene};
 
 /// Spot cones wider than this (half-angle, degrees) get a cube map.
 const MAX_SPOT_DEG: f32 = 80.0;
@@ -343,8 +344,7 @@ pub(crate) fn texel_at(views: &[Mat4], p: Vec3, resolution: u32) -> Option<f32> 
 /// the report's texel size): its view-projection and how large a pixel is at a given depth.
 #[derive(Clone, Copy)]
 pub(crate) struct Seen<'a> {
-    pub camera: &'a Camera,
-    pub view_proj: Mat4,
+    pub view: &'a View,
     /// Pixel rows of the frame.
     pub height: u32,
 }
@@ -352,16 +352,15 @@ pub(crate) struct Seen<'a> {
 impl Seen<'_> {
     /// Whether `p` lies inside the camera's side planes, beyond its near plane.
     fn holds(&self, p: Vec3) -> bool {
-        let clip = self.view_proj * p.extend(1.0);
-        clip.w > self.camera.near && clip.x.abs() <= clip.w && clip.y.abs() <= clip.w
+        let clip = self.view.view_proj * p.extend(1.0);
+        clip.w > self.view.near && clip.x.abs() <= clip.w && clip.y.abs() <= clip.w
     }
 
     /// World size of one pixel at `p` (its depth along the view axis times a pixel's angle).
     pub fn pixel_at(&self, p: Vec3) -> f32 {
-        let c = self.camera;
-        let forward = (c.target - c.position).normalize_or_zero();
-        let per_depth = 2.0 * (c.fov_y_deg.to_radians() * 0.5).tan() / self.height.max(1) as f32;
-        (p - c.position).dot(forward) * per_depth
+        let v = self.view;
+        let per_depth = v.height_per_depth / self.height.max(1) as f32;
+        (p - v.position).dot(v.forward) * per_depth
     }
 
     /// Calls `f(i, p)` at the points `p` of a grid (`samples` per side) through each box `i`
@@ -463,6 +462,7 @@ fn any_up(dir: Vec3) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use umbra_scene::Camera;
     use crate::reach::corners;
 
     /// Vulkan's cube face selection: (face, sc, tc, ma) for a direction.

@@ -3,6 +3,7 @@
 
 use super::settings::VolumeMode;
 use crate::plan::{CasterMode, ShadowVolumeReport};
+use crate::view::View;
 use glam::{Vec3, Vec4, Vec4Swizzles};
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -87,13 +88,12 @@ pub(crate) fn build_light(
     adjacency: &[Arc<Adjacency>],
     boxes: &[Option<Aabb>],
     light: &Light,
-    camera: &Camera,
-    aspect: f32,
+    view: &View,
     mode: VolumeMode,
     vertices: &mut Vec<Vec4>,
 ) -> LightVolumes {
     let started = std::time::Instant::now();
-    let near_region = NearRegion::new(camera, aspect, light.position);
+    let near_region = NearRegion::new(view, light.position);
     let built: Vec<(usize, Counting, Vec<Vec4>, VolumeStats, u32)> = casters
         .par_iter()
         .filter_map(|&i| {
@@ -149,8 +149,8 @@ struct NearRegion {
 }
 
 impl NearRegion {
-    fn new(camera: &Camera, aspect: f32, light: Vec4) -> Self {
-        let inv = camera.view_proj(aspect).inverse();
+    fn new(view: &View, light: Vec4) -> Self {
+        let inv = view.view_proj.inverse();
         let corners: Vec<Vec3> = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
             .iter()
             .map(|&(x, y)| inv.project_point3(Vec3::new(x, y, 0.0)))
@@ -218,7 +218,7 @@ mod tests {
     use glam::Mat4;
 
     fn touches_near_region(camera: &Camera, aspect: f32, light: Vec4, bounds: &Aabb, transform: Mat4) -> bool {
-        NearRegion::new(camera, aspect, light).may_touch(&bounds.transformed(&transform))
+        NearRegion::new(&View::of_camera(camera, aspect), light).may_touch(&bounds.transformed(&transform))
     }
 
     #[test]

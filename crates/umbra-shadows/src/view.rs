@@ -1,0 +1,78 @@
+//! The view a frame is seen from, as every CPU step uses it: matrices (from umbra's own
+//! [`Camera`] or as an engine built them, brought to umbra's depth convention) and the few
+//! numbers planning and fitting read off them.
+
+use glam::{Mat4, Vec3};
+use umbra_scene::Camera;
+
+/// A frame's view: world to view, view to clip (Vulkan's 0 ≤ z ≤ w, depth growing with
+/// distance, umbra's y-up viewport), and what is derived from them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct View {
+    /// World to view (right-handed, looking down -Z).
+    pub view: Mat4,
+    /// View to clip.
+    pub proj: Mat4,
+    /// `proj * view`.
+    pub view_proj: Mat4,
+    /// The eye in world space.
+    pub position: Vec3,
+    /// The unit view direction in world space.
+    pub forward: Vec3,
+    /// Distance of the near plane along the view direction.
+    pub near: f32,
+    /// The height of the view frustum per unit of depth along `forward` (`2 tan(fov_y / 2)`).
+    pub height_per_depth: f32,
+}
+
+impl View {
+    /// The view of `camera` on a target `aspect` (width / height) wide.
+    pub fn of_camera(camera: &Camera, aspect: f32) -> Self {
+        Self {
+            view: camera.view(),
+            proj: camera.projection(aspect),
+            view_proj: camera.view_proj(aspect),
+            position: camera.position,
+            forward: (camera.target - camera.position).normalize_or_zero(),
+            near: camera.near,
+            height_per_depth: 2.0 * (camera.fov_y_deg.to_radians() * 0.5).tan(),
+        }
+    }
+
+    /// The view of an engine's `view` and perspective `proj` matrices, already in umbra's
+    /// convention (standard depth, `z = 0` at the near plane).
+    pub fn of_matrices(view: Mat4, proj: Mat4) -> Self {
+        let inverse = view.inverse();
+        // The projection's depth row: z_clip = a·z + b with w = -z, zero at z = -near.
+        let (a, b) = (proj.z_axis.z, proj.w_axis.z);
+        Self {
+            view,
+            proj,
+            view_proj: proj * view,
+            position: inverse.w_axis.truncate(),
+            forward: -inverse.z_axis.truncate().normalize_or_zero(),
+            near: if a != 0.0 { b / a } else { 0.0 },
+            height_per_depth: if proj.y_axis.y != 0.0 { 2.0 / proj.y_axis.y.abs() } else { 0.0 },
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn matrices_give_back_what_the_camera_holds() {
+        let mut camera = Camera::look_at(Vec3::new(3.0, 2.0, 5.0), Vec3::new(0.0, 0.5, 0.0));
+        for far in [Some(200.0), None] {
+            camera.far = far;
+            let own = View::of_camera(&camera, 4.0 / 3.0);
+            let given = View::of_matrices(camera.view(), camera.projection(4.0 / 3.0));
+            assert_eq!(own.view_proj, given.view_proj);
+            assert!((own.position - given.position).length() < 1e-5, "{} {}", own.position, given.position);
+            assert!((own.forward - given.forward).length() < 1e-6);
+            assert!((own.near - given.near).abs() < 1e-6 * own.near.max(1.0), "{} {}", own.near, given.near);
+            assert!((own.height_per_depth - given.height_per_depth).abs() < 1e-6);
+        }
+    }
+}
