@@ -174,7 +174,19 @@ impl Scene {
         for m in &self.meshes {
             m.validate()?;
         }
-        let invalid = |what: String, why: String| Err(crate::SceneError::InvalidScene { what, why });
+        let bounds = self.validate_placement()?;
+        self.camera
+            .validate(self.reach_of(bounds))
+            .map_err(|why| crate::SceneError::InvalidScene { what: "camera".into(), why })
+    }
+
+    /// What [`Scene::validate`] checks but the meshes' contents and the camera (for an engine
+    /// that registered checked meshes and brings its own view): objects, lights, ambient and
+    /// background. Returns the world bounds of every object.
+    pub fn validate_placement(&self) -> crate::SceneResult<Aabb> {
+        fn invalid<T>(what: String, why: String) -> crate::SceneResult<T> {
+            Err(crate::SceneError::InvalidScene { what, why })
+        }
         if self.objects.len() > crate::limits::MAX_OBJECTS {
             let (value, limit) = (self.objects.len() as u64, crate::limits::MAX_OBJECTS as u64);
             return Err(crate::SceneError::Limit { what: "objects".into(), value, limit });
@@ -213,7 +225,6 @@ impl Scene {
                 return invalid(what.into(), format!("{c} must be finite and ≥ 0"));
             }
         }
-        self.camera.validate(self.reach_of(bounds)).or_else(|why| invalid("camera".into(), why))?;
-        Ok(())
+        Ok(bounds)
     }
 }

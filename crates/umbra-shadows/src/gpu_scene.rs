@@ -249,8 +249,8 @@ pub(crate) fn check_limits(caps: &Capabilities, counts: SceneCounts) -> RenderRe
 impl GpuScene {
     /// Uploads `scene` as seen from `view`, with each light's shadow-map
     /// parameters (`shadows[i]` for light `i`) and every shadow view-projection. The meshes are
-    /// uploaded only when `previous` does not hold them as they are now, and `previous`'s
-    /// per-frame buffers are rewritten where they are large enough.
+    /// uploaded only when `geometry` does not hold them as they are now, and `frame`'s buffers
+    /// (the frame slot's, from its last frame) are rewritten where they are large enough.
     #[allow(clippy::too_many_arguments)]
     pub fn upload(
         ctx: &Context,
@@ -259,15 +259,12 @@ impl GpuScene {
         view: &crate::view::View,
         shadows: &[GpuShadow],
         shadow_views: &[Mat4],
-        previous: Option<GpuScene>,
+        geometry: Option<Arc<SceneGeometry>>,
+        frame: Option<FrameBuffers>,
     ) -> RenderResult<Self> {
         // `scene` was validated by `Renderer::render`, which alone calls this.
         check_limits(ctx.capabilities(), SceneCounts::of(scene, shadow_views.len()))?;
-        let (previous_geometry, previous_frame) = match previous {
-            Some(p) => (Some(p.geometry), Some(p.frame)),
-            None => (None, None),
-        };
-        let reused = previous_geometry.filter(|g| g.holds(scene));
+        let (reused, previous_frame) = (geometry.filter(|g| g.holds(scene)), frame);
         let packed = if reused.is_none() { Some(pack_meshes(&scene.meshes)) } else { None };
 
         let frame = FrameUniforms {

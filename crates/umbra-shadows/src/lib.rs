@@ -28,6 +28,7 @@ mod report;
 pub mod shadow_map;
 pub mod shadow_volume;
 pub mod silhouette_map;
+pub mod shadows;
 mod streams;
 mod technique;
 mod timing;
@@ -47,5 +48,9 @@ pub use renderer::{Frame, Renderer, RendererDesc, COLOR_FORMAT};
 pub use report::{FrameReport, MeshTopology, SceneSummary, TopologySource, VolumeConstruction};
 pub use shadow_map::{DepthBias, ShadowFilter, ShadowMapSettings};
 pub use shadow_volume::{FarPlane, HostClip, ShadowVolumeSettings, VolumeMode};
+pub use shadows::{
+    DepthTarget, FrameInputs, Instance, InstanceId, LightShadows, MeshId, SampledImage, ShadowFrame, ShadowMapOutput,
+    Shadows, ShadowsDesc,
+};
 pub use timing::PassReport;
 pub use visibility::{VisibilityImage, VISIBILITY_FORMAT};

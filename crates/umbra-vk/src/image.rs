@@ -72,7 +72,9 @@ pub fn texel_size(format: vk::Format) -> Option<u32> {
 /// A state an image is in: its layout plus the stages and accesses that use it there.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ImageState {
-    /// Content undefined (before first use; discards).
+    /// Content undefined (before first use; discards). Leaving it waits for every earlier
+    /// command and makes its writes available, so that an image reused from a frame that may
+    /// still run (an engine's frames in flight) is never raced.
     Undefined,
     /// Written as a colour attachment.
     ColorAttachment,
@@ -106,7 +108,7 @@ impl ImageState {
         use vk::PipelineStageFlags2 as S;
         let depth_stages = S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS;
         match self {
-            ImageState::Undefined => (S::NONE, A::NONE),
+            ImageState::Undefined => (S::ALL_COMMANDS, A::MEMORY_WRITE),
             ImageState::ColorAttachment => {
                 (S::COLOR_ATTACHMENT_OUTPUT, A::COLOR_ATTACHMENT_READ | A::COLOR_ATTACHMENT_WRITE)
             }
@@ -133,6 +135,8 @@ pub struct Image {
     /// What it was created from.
     pub desc: ImageDesc,
     allocation: Option<Allocation>,
+    /// Whether umbra created it (and destroys it on drop); false for an engine's image.
+    owned: bool,
     ctx: Context,
 }
 
@@ -178,7 +182,7 @@ impl Image {
         // SAFETY: `raw` was just created from `device`.
         let requirements = unsafe { device.get_image_memory_requirements(raw) };
         let allocation = memory::allocate(ctx, name, requirements, Memory::GpuOnly, false);
-        let mut image = Image { raw, view: vk::ImageView::null(), desc, allocation: None, ctx: ctx.clone() };
+        let mut image = Image { raw, view: vk::ImageView::null(), desc, allocation: None, owned: true, ctx: ctx.clone() };
         image.allocation = Some(allocation?);
         if let Some(a) = &image.allocation {
             // SAFETY: memory and offset come from an allocation made for these requirements.
@@ -194,6 +198,13 @@ impl Image {
         ctx.set_name(raw, name);
         ctx.set_name(image.view, &format!("{name} view"));
         Ok(image)
+    }
+
+    /// An engine's image and view, described by `desc` (format, extent, layers, usage as the
+    /// engine created them), for umbra's passes to use: never destroyed or freed by umbra. The
+    /// engine keeps both alive while umbra's commands that use them may run.
+    pub fn external(ctx: &Context, raw: vk::Image, view: vk::ImageView, desc: ImageDesc) -> Self {
+        Image { raw, view, desc, allocation: None, owned: false, ctx: ctx.clone() }
     }
 
     /// A 2D view of one layer (a cube face or array slice to render to).
@@ -259,6 +270,9 @@ impl Drop for ImageView {
 
 impl Drop for Image {
     fn drop(&mut self) {
+        if !self.owned {
+            return;
+        }
         // SAFETY: umbra waits for every submission, so the image is no longer in use.
         unsafe {
             if self.view != vk::ImageView::null() {

@@ -78,6 +78,27 @@ impl QueryPool {
         Ok(data)
     }
 
+    /// The results of the first `count` queries when the GPU has written them all, `None` while
+    /// it has not: never waits (for results of an engine's earlier frame).
+    pub fn available_results(&self, count: u32) -> VkResult<Option<Vec<u64>>> {
+        if count == 0 || count > self.count {
+            return Err(VkError::InvalidDesc {
+                what: "query results",
+                why: format!("{count} of a pool of {} queries", self.count),
+            });
+        }
+        let mut data = vec![0u64; count as usize];
+        // SAFETY: `data` holds one u64 per query (each kind here yields one value).
+        let result = unsafe {
+            self.ctx.inner.device.get_query_pool_results(self.raw, 0, &mut data, vk::QueryResultFlags::TYPE_64)
+        };
+        match result {
+            Ok(()) => Ok(Some(data)),
+            Err(vk::Result::NOT_READY) => Ok(None),
+            Err(e) => Err(e).call("vkGetQueryPoolResults"),
+        }
+    }
+
     /// Nanoseconds between two timestamps of this pool's results, honouring the valid bits.
     pub fn elapsed_ns(&self, results: &[u64], begin: usize, end: usize) -> f64 {
         let caps = self.ctx.capabilities();

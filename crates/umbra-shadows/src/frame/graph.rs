@@ -132,6 +132,26 @@ impl FrameGraph {
         Stage { name, slot: self.stages - 1, passes: Vec::new(), queries: 0 }
     }
 
+    /// Sets `image`'s state for this frame without a barrier: an image the engine hands over
+    /// in `state`, whose content umbra's passes keep.
+    pub fn import(&mut self, image: &Image, state: ImageState) {
+        self.states.import(image, state);
+    }
+
+    /// `passes`, the reports of this graph's last single-stage frame recorded into a command
+    /// buffer umbra does not wait for ([`RecordedStage::into_passes`]), with their GPU times
+    /// where the GPU has written them: read before the graph records again, never waiting.
+    pub fn earlier_times(&self, mut passes: Vec<PassReport>) -> RenderResult<Vec<PassReport>> {
+        if let (Some(t), false) = (pool(&self.timestamps, 0), passes.is_empty()) {
+            if let Some(stamps) = t.available_results(2 * passes.len() as u32)? {
+                for (i, p) in passes.iter_mut().enumerate() {
+                    p.gpu_ms = Some(t.elapsed_ns(&stamps, 2 * i, 2 * i + 1) / 1e6);
+                }
+            }
+        }
+        Ok(passes)
+    }
+
     /// Command buffers submitted so far.
     pub fn submissions(&self) -> u64 {
         self.submissions
@@ -221,6 +241,11 @@ pub(crate) struct RecordedStage<'a> {
 }
 
 impl RecordedStage<'_> {
+    /// Its passes' reports, their GPU times not read (for [`FrameGraph::earlier_times`]).
+    pub fn into_passes(self) -> Vec<PassReport> {
+        self.passes
+    }
+
     /// A recorded stage's passes' reports with their GPU times, and its occlusion queries'
     /// samples, once its commands completed.
     pub fn results(self) -> RenderResult<StageResults> {

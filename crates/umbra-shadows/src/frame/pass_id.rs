@@ -51,6 +51,9 @@ pub enum PassId {
     VisibilityReadback(usize),
     /// The colour target copied out.
     Readback,
+    /// An engine's frame: the lights' visibility images made readable by its shaders and its
+    /// depth returned in the layout it was handed over in (barriers only).
+    HandOff,
 }
 
 impl PassId {
@@ -79,13 +82,14 @@ impl PassId {
             PassId::SilhouetteDiagnostics(l) => format!("silhouette diagnostics {l}"),
             PassId::VisibilityReadback(l) => format!("visibility readback {l}"),
             PassId::Readback => "readback".into(),
+            PassId::HandOff => "hand-off".into(),
         }
     }
 
     /// The light the pass serves, if any.
     pub fn light(self) -> Option<usize> {
         match self {
-            PassId::BlockerCulling | PassId::Ambient | PassId::GBuffer | PassId::Readback => None,
+            PassId::BlockerCulling | PassId::Ambient | PassId::GBuffer | PassId::Readback | PassId::HandOff => None,
             PassId::ShadowMap(l)
             | PassId::SilhouetteMap(l)
             | PassId::ShadowVolume(l)
@@ -128,7 +132,7 @@ mod tests {
 
     /// Every pass a frame can record for lights 0 and 1.
     fn every_pass() -> Vec<PassId> {
-        let mut all = vec![PassId::BlockerCulling, PassId::Ambient, PassId::GBuffer, PassId::Readback];
+        let mut all = vec![PassId::BlockerCulling, PassId::Ambient, PassId::GBuffer, PassId::Readback, PassId::HandOff];
         for l in 0..2 {
             all.extend([
                 PassId::ShadowMap(l),

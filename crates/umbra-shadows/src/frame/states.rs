@@ -21,6 +21,15 @@ impl ImageStates {
         self.last.iter().find(|(raw, _)| *raw == image.raw).map_or(ImageState::Undefined, |&(_, s)| s)
     }
 
+    /// Sets `image`'s state without a barrier: an image handed over in `state` (an engine's
+    /// depth), whose content is kept.
+    pub fn import(&mut self, image: &Image, state: ImageState) {
+        match self.last.iter_mut().find(|(raw, _)| *raw == image.raw) {
+            Some(entry) => entry.1 = state,
+            None => self.last.push((image.raw, state)),
+        }
+    }
+
     /// Records one batched barrier moving every image of `uses` into its state: a layout
     /// change, or a write before or after (write-after-write and read-after-write in one
     /// layout still need the memory dependency). Reads after reads in one state need none.

@@ -14,7 +14,7 @@ impl Renderer {
     /// the sets of the frame before are gone.
     pub(super) fn bind(&mut self, lights: &[LightFrame]) -> RenderResult<Vec<LightSets>> {
         let count = lights.iter().map(|l| u32::from(l.plan.recorded) + u32::from(l.edges.is_some())).sum();
-        self.sets.reset(&self.shadow_set_layout, count)?;
+        self.slot.sets.reset(&self.shadow_set_layout, count)?;
         self.readbacks.resize_with(lights.len(), LightReadbacks::default);
         self.readbacks.truncate(lights.len());
         lights.iter().map(|light| self.bind_light(light)).collect()
@@ -31,7 +31,7 @@ impl Renderer {
                 _ => self.silhouette_map.image(light.edges.map(|_| l)),
             };
             let bounds = self.hybrid.bounds.image(light.hybrid().then_some(l));
-            let set = self.shadow_map.descriptor_set(&mut self.sets, layout, has_map, technique_image, bounds)?;
+            let set = self.shadow_map.descriptor_set(&mut self.slot.sets, layout, has_map, technique_image, bounds)?;
             out.shadow_set = Some(set);
         }
         if light.edges.is_some() {
@@ -39,7 +39,7 @@ impl Renderer {
             // must not bind: the placeholder stands in.
             let (placeholder, bounds) = (self.silhouette_map.image(None), self.hybrid.bounds.image(None));
             out.depth_set =
-                Some(self.shadow_map.descriptor_set(&mut self.sets, layout, Some(l), placeholder, bounds)?);
+                Some(self.shadow_map.descriptor_set(&mut self.slot.sets, layout, Some(l), placeholder, bounds)?);
         }
         self.keep_readbacks(light)?;
         Ok(out)
@@ -78,8 +78,8 @@ impl Renderer {
         sets.iter()
             .zip(&self.readbacks)
             .map(|(s, r)| LightBindings {
-                shadow_set: s.shadow_set.and_then(|i| self.sets.get(i)),
-                depth_set: s.depth_set.and_then(|i| self.sets.get(i)),
+                shadow_set: s.shadow_set.and_then(|i| self.slot.sets.get(i)),
+                depth_set: s.depth_set.and_then(|i| self.slot.sets.get(i)),
                 silhouette_readback: r.silhouette.as_ref(),
                 class_readback: r.classes.as_ref(),
                 visibility_readback: r.visibility.as_ref(),

@@ -29,6 +29,8 @@ pub(super) struct FrameInputs<'a> {
     pub gpu: &'a GpuScene,
     pub lights: &'a [LightFrame],
     pub bindings: &'a [LightBindings<'a>],
+    /// The frame's depth (and stencil): the renderer's own, or the engine's.
+    pub depth: &'a Image,
     /// The frame's silhouette edges and shadow-volume vertices (none when empty).
     pub edges: Option<&'a Buffer>,
     pub volumes: Option<&'a Buffer>,
@@ -64,7 +66,7 @@ impl Renderer {
         let mut stages = Vec::new();
         let boxes = streams.blockers.filled().filter(|_| !culling.boxes.is_empty());
         if let Some(boxes) = boxes {
-            let f = FrameInputs { scene, gpu, lights, bindings, edges, volumes };
+            let f = FrameInputs { scene, gpu, lights, bindings, depth: &self.own()?.depth, edges, volumes };
             let mut views = graph.stage("frame: views and blocker culling");
             self.declare_views(&mut views, f)?;
             let first = self.declare_culling(&mut views, f, &culling, boxes)?;
@@ -78,6 +80,20 @@ impl Renderer {
             }
             stages.push(done);
         }
+        self.settle_volumes(scene, lights, &culling);
+        let f = FrameInputs { scene, gpu, lights, bindings, depth: &self.own()?.depth, edges, volumes };
+        let mut stage = graph.stage("frame");
+        if stages.is_empty() {
+            self.declare_views(&mut stage, f)?;
+        }
+        let (queries, overdraw) = self.declare_lighting(&mut stage, f)?;
+        stages.push(graph.run(&self.ctx, stage)?);
+        Ok(FrameRun { stages, queries, overdraw })
+    }
+
+    /// Every light's volumes once blocker culling (if any) dropped casters: their stencil
+    /// batches and report.
+    pub(super) fn settle_volumes(&self, scene: &Scene, lights: &mut [LightFrame], culling: &CullingPlan) {
         for light in lights.iter_mut() {
             if let Some(v) = light.volumes.as_mut() {
                 v.plan_batches(match light.plan.technique {
@@ -91,18 +107,10 @@ impl Renderer {
                 tally(&mut light.plan.culled, CullReason::HiddenBlocker, n);
             }
         }
-        let f = FrameInputs { scene, gpu, lights, bindings, edges, volumes };
-        let mut stage = graph.stage("frame");
-        if stages.is_empty() {
-            self.declare_views(&mut stage, f)?;
-        }
-        let (queries, overdraw) = self.declare_lighting(&mut stage, f)?;
-        stages.push(graph.run(&self.ctx, stage)?);
-        Ok(FrameRun { stages, queries, overdraw })
     }
 
     /// The lights' views: per recorded light its shadow map and silhouette points.
-    fn declare_views<'a>(&'a self, stage: &mut Stage<'a>, f: FrameInputs<'a>) -> RenderResult<()> {
+    pub(super) fn declare_views<'a>(&'a self, stage: &mut Stage<'a>, f: FrameInputs<'a>) -> RenderResult<()> {
         for light in f.lights.iter().filter(|l| l.plan.recorded) {
             let l = light.light();
             let Some(map) = &light.map else { continue };
@@ -178,7 +186,7 @@ impl Renderer {
         stage: &mut Stage<'a>,
         f: FrameInputs<'a>,
     ) -> RenderResult<(Vec<LightQueries>, bool)> {
-        let (color, depth) = (&self.color, &self.depth);
+        let (color, depth) = (&self.own()?.color, f.depth);
         stage.pass(PassId::Ambient, &[Use::Image(color, Color), Use::Image(depth, Depth)], move |cx| {
             let bg = f.scene.background;
             let clear = [ColorAttachment { image: color, clear: Some([bg.x, bg.y, bg.z, 1.0]) }];
@@ -204,14 +212,14 @@ impl Renderer {
         for light in f.lights.iter().filter(|l| l.plan.recorded && f.bindings[l.light()].shadow_set.is_some()) {
             self.declare_light(stage, f, light, queries[light.light()].shadowed)?;
         }
-        self.declare_readback(stage, overdraw);
+        self.declare_readback(stage, overdraw)?;
         Ok((queries, overdraw))
     }
 
     /// Every recorded light's shadows, before any light is lit: its visibility image (and its
     /// copy), then the diagnostics asked for. Returns each light's queries and whether the
     /// overdraw image was drawn.
-    fn declare_shadows<'a>(
+    pub(super) fn declare_shadows<'a>(
         &'a self,
         stage: &mut Stage<'a>,
         f: FrameInputs<'a>,
@@ -291,7 +299,7 @@ impl Renderer {
             scene: f.scene,
             shadow_set,
             visibility: &self.visibility.light(l)?.image,
-            depth: &self.depth,
+            depth: f.depth,
             volumes,
             vertices: f.volumes,
             zfail: self.shadow_volume.zfail(),
@@ -324,7 +332,7 @@ impl Renderer {
         volumes: &'a LightVolumes,
         vertices: &'a Buffer,
     ) -> RenderResult<()> {
-        let (l, bounds, depth) = (light.light(), light_bounds(light), &self.depth);
+        let (l, bounds, depth) = (light.light(), light_bounds(light), f.depth);
         stage.pass(PassId::ShadowVolume(l), &[Use::Image(depth, Depth)], move |cx| {
             let stencil = DepthAttachment::clearing_stencil(depth, 0);
             cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(stencil) });
@@ -352,7 +360,7 @@ impl Renderer {
         shadow_set: &'a DescriptorSet,
         reads: &[Use<'a>],
     ) -> RenderResult<()> {
-        let (l, bounds, depth) = (light.light(), light_bounds(light), &self.depth);
+        let (l, bounds, depth) = (light.light(), light_bounds(light), f.depth);
         let image = &self.visibility.light(l)?.image;
         let uses = [&[Use::Image(image, Color), Use::Image(depth, Depth)], reads].concat();
         stage.pass(PassId::MapVisibility(l), &uses, move |cx| {
@@ -374,8 +382,9 @@ impl Renderer {
         light: &'a LightFrame,
         shadowed: bool,
     ) -> RenderResult<()> {
-        let (l, bounds, depth) = (light.light(), light_bounds(light), &self.depth);
-        let mut uses = vec![Use::Image(&self.color, Color), Use::Image(depth, Depth)];
+        let (l, bounds, depth) = (light.light(), light_bounds(light), f.depth);
+        let color = &self.own()?.color;
+        let mut uses = vec![Use::Image(color, Color), Use::Image(depth, Depth)];
         let set = match shadowed {
             true => {
                 let own = self.visibility.light(l)?;
@@ -386,7 +395,7 @@ impl Renderer {
         };
         let visibility = (set, shadowed);
         stage.pass(PassId::Light(l, light.plan.kind), &uses, move |cx| {
-            over_surfaces(cx.rec, &self.color, None, depth);
+            over_surfaces(cx.rec, color, None, depth);
             let (layout, light) = (&self.layout, l as u32);
             self.forward.record_light(cx.rec, layout, f.gpu, visibility, f.scene, light, bounds, cx.log);
             cx.rec.end_rendering();
@@ -411,7 +420,7 @@ impl Renderer {
             return;
         };
         let Some(shadow_set) = &f.bindings[l].shadow_set else { return };
-        let (class, depth) = (&targets.classification, &self.depth);
+        let (class, depth) = (&targets.classification, f.depth);
         let mut uses = vec![Use::Image(class, Color), Use::Image(depth, Depth), Use::Readback(&out.classes)];
         uses.extend(out.stencil.as_ref().map(Use::Readback));
         uses.extend_from_slice(reads);
@@ -469,7 +478,7 @@ impl Renderer {
         else {
             return;
         };
-        let (class, points, depth) = (&targets.classification, &targets.points, &self.depth);
+        let (class, points, depth) = (&targets.classification, &targets.points, f.depth);
         let silmap = self.silhouette_map.image(Some(l));
         let mut uses = vec![Use::Image(class, Color), Use::Image(points, Color), Use::Image(depth, Depth)];
         uses.extend_from_slice(reads);
@@ -496,20 +505,22 @@ impl Renderer {
     }
 
     /// `readback`: the colour target (and the overdraw image, when drawn) copied out.
-    fn declare_readback<'a>(&'a self, stage: &mut Stage<'a>, overdraw: bool) {
+    fn declare_readback<'a>(&'a self, stage: &mut Stage<'a>, overdraw: bool) -> RenderResult<()> {
         let src = ImageState::TransferSrc;
-        let mut uses = vec![Use::Image(&self.color, src), Use::Readback(&self.readback)];
+        let own = self.own()?;
+        let mut uses = vec![Use::Image(&own.color, src), Use::Readback(&own.readback)];
         let overdraw = self.overdraw.as_ref().filter(|_| overdraw);
         if let Some((image, readback)) = overdraw {
             uses.extend([Use::Image(image, src), Use::Readback(readback)]);
         }
         stage.pass(PassId::Readback, &uses, move |cx| {
-            cx.rec.copy_image_to_buffer(&self.color, 0, &self.readback);
+            cx.rec.copy_image_to_buffer(&own.color, 0, &own.readback);
             if let Some((image, readback)) = overdraw {
                 cx.rec.copy_image_to_buffer(image, 0, readback);
             }
             Ok(())
         });
+        Ok(())
     }
 }
 

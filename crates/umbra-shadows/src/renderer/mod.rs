@@ -10,17 +10,20 @@
 mod bind;
 mod declare;
 mod desc;
+mod engine;
 mod lights;
 mod prepare;
 mod results;
+mod slot;
 
 pub use desc::{Frame, RendererDesc, COLOR_FORMAT};
+pub(crate) use engine::{EngineDepth, RecordedLight};
+pub(crate) use slot::FrameSlot;
 
 use crate::diagnostics::DiagnosticTargets;
 use crate::forward::Forward;
-use crate::frame::FrameGraph;
 use crate::gbuffer::GBufferPass;
-use crate::gpu_scene::{self, GpuScene, SceneCounts};
+use crate::gpu_scene::{self, SceneCounts, SceneGeometry};
 use crate::hybrid::pass::HybridPass;
 use crate::hybrid::MaskKind;
 use crate::mesh_cache::MeshCache;
@@ -28,21 +31,21 @@ use crate::shadow_map::pass::{self, ShadowMapPass};
 use crate::shadow_volume::pass::{ShadowVolumePass, VolumeInput};
 use crate::shadow_volume::FarPlane;
 use crate::silhouette_map::pass::SilhouetteMapPass;
-use crate::streams::Streams;
 use crate::visibility::{self, VisibilityPass};
 use crate::RenderResult;
 use desc::{check_frame_size, depth_desc, frame_target};
+use std::sync::Arc;
 use std::time::Instant;
 use umbra_scene::Scene;
-use umbra_vk::{vk, Buffer, BufferDesc, Context, DescriptorArena, DescriptorSetLayout, Image, PipelineLayout};
+use umbra_vk::{vk, Buffer, BufferDesc, Context, DescriptorSetLayout, Image, PipelineLayout};
 
 /// Renders scenes into a headless target of a fixed size.
 pub struct Renderer {
     ctx: Context,
     desc: RendererDesc,
-    color: Image,
-    depth: Image,
-    readback: Buffer,
+    /// Its own colour and depth targets and colour readback; `None` recording into an
+    /// engine's frame ([`crate::Shadows`]), over the engine's depth.
+    own: Option<OwnTargets>,
     scene_set_layout: DescriptorSetLayout,
     shadow_set_layout: DescriptorSetLayout,
     layout: PipelineLayout,
@@ -61,15 +64,10 @@ pub struct Renderer {
     diagnostic_targets: Option<DiagnosticTargets>,
     /// Welded connectivity per mesh, kept while the mesh keeps its revision.
     meshes: MeshCache,
-    /// The scene on the GPU from the frame before: its meshes, reused while every mesh keeps
-    /// its revision, and its per-frame buffers, rewritten in place.
-    gpu: Option<GpuScene>,
-    /// Per-frame vertex data (edges, volumes, blocker boxes), kept between frames.
-    streams: Streams,
-    /// The frame graph: its query pools, kept between frames.
-    graph: FrameGraph,
-    /// The lights' shadow sets, made afresh each frame from one pool that is reset.
-    sets: DescriptorArena,
+    /// The scene's meshes on the GPU, reused while every mesh keeps its revision.
+    geometry: Option<Arc<SceneGeometry>>,
+    /// The frame's host-written buffers, sets and query pools, kept between frames.
+    slot: FrameSlot,
     /// Per light, its diagnostic readbacks (with `diagnostics`), kept while they fit.
     readbacks: Vec<lights::LightReadbacks>,
     /// Volume overdraw target and its readback (with `shadow_volume.overdraw`).
@@ -83,21 +81,29 @@ impl Renderer {
     /// ([`crate::ShadowMapSettings::validate`]) and the target size against every device limit of the
     /// frame-sized images ([`crate::RenderError::InvalidSize`] naming the limit).
     pub fn new(ctx: &Context, desc: RendererDesc) -> RenderResult<Self> {
-        let caps = ctx.capabilities();
-        desc.shadow_map.validate()?;
-        let depth_format = caps.depth_stencil_format;
+        let depth_format = ctx.capabilities().depth_stencil_format;
         if depth_format == vk::Format::UNDEFINED {
             return Err(ctx.unsupported("any depth/stencil attachment format").into());
         }
+        Self::build(ctx, desc, depth_format, true)
+    }
+
+    /// The pipelines for an engine's depth of `depth_format` (checked by the caller), without
+    /// targets of its own: frames are recorded into the engine's command buffer
+    /// ([`Renderer::record_into`]).
+    pub(crate) fn for_engine(ctx: &Context, desc: RendererDesc, depth_format: vk::Format) -> RenderResult<Self> {
+        Self::build(ctx, desc, depth_format, false)
+    }
+
+    fn build(ctx: &Context, desc: RendererDesc, depth_format: vk::Format, own: bool) -> RenderResult<Self> {
+        let caps = ctx.capabilities();
+        desc.shadow_map.validate()?;
         let mask = desc.hybrid.mask.unwrap_or(MaskKind::best_for(caps.depth_bounds));
         if mask == MaskKind::DepthBounds && !caps.depth_bounds {
             return Err(ctx.unsupported("the hybrid's depth-bounds computation mask (depthBounds)").into());
         }
         check_frame_size(ctx, &desc, depth_format, mask)?;
-        let color = frame_target(ctx, "colour target", desc.width, desc.height)?;
-        let depth = Image::new(ctx, "depth/stencil target", depth_desc(depth_format, desc.width, desc.height))?;
-        let readback =
-            Buffer::new(ctx, "colour readback", BufferDesc::readback(4 * desc.width as u64 * desc.height as u64))?;
+        let own = own.then(|| OwnTargets::new(ctx, depth_format, desc.width, desc.height)).transpose()?;
         let scene_set_layout = gpu_scene::scene_set_layout(ctx)?;
         let shadow_set_layout = pass::shadow_set_layout(ctx)?;
         let visibility_set_layout = visibility::set_layout(ctx)?;
@@ -148,13 +154,11 @@ impl Renderer {
             true => Some(GBufferPass::new(ctx, &layout, depth_format, desc.width, desc.height)?),
             false => None,
         };
-        let sets = DescriptorArena::new(ctx, "shadow sets", &shadow_set_layout, 8)?;
+        let slot = FrameSlot::new(ctx, "shadow sets", &shadow_set_layout)?;
         Ok(Self {
             ctx: ctx.clone(),
             desc,
-            color,
-            depth,
-            readback,
+            own,
             scene_set_layout,
             shadow_set_layout,
             layout,
@@ -168,10 +172,8 @@ impl Renderer {
             mask,
             diagnostic_targets,
             meshes: MeshCache::default(),
-            gpu: None,
-            streams: Streams::default(),
-            graph: FrameGraph::default(),
-            sets,
+            geometry: None,
+            slot,
             readbacks: Vec::new(),
             overdraw,
             gbuffer,
@@ -181,7 +183,7 @@ impl Renderer {
     /// Command buffers this renderer has submitted to the GPU so far (a frame whose scene is
     /// rejected by validation submits none).
     pub fn submissions(&self) -> u64 {
-        self.graph.submissions()
+        self.slot.graph.submissions()
     }
 
     /// The target size and settings it was created with.
@@ -208,7 +210,7 @@ impl Renderer {
         // 3. Prepare each light's technique on the CPU: map views and maps, silhouette edges,
         //    volumes, blocker boxes (welded connectivity cached per mesh revision).
         let adjacency = self.meshes.adjacency(scene)?;
-        let mut streams = std::mem::take(&mut self.streams);
+        let mut streams = std::mem::take(&mut self.slot.streams);
         let shadow_views = self.prepare_maps(scene, &view, &adjacency, &mut lights, &mut streams)?;
         self.prepare_volumes(scene, &view, &adjacency, &mut lights, &mut streams)?;
         let culling = self.plan_culling(scene, &view, &lights, &mut streams)?;
@@ -217,13 +219,16 @@ impl Renderer {
         let sets = self.bind(&lights)?;
         // 5. Declare the passes and run them: one submission, two with blocker culling. The
         //    readback is poisoned first so that a copy that never happened cannot pass for a frame.
-        self.readback.write(0, &vec![0xCD; self.readback.desc.size as usize])?;
+        self.own()?;
+        if let Some(own) = self.own.as_mut() {
+            own.readback.write(0, &vec![0xCD; own.readback.desc.size as usize])?;
+        }
         let prepared = started.elapsed();
-        let mut graph = std::mem::take(&mut self.graph);
+        let mut graph = std::mem::take(&mut self.slot.graph);
         let running = Instant::now();
         let frame = self.run_frame(&mut graph, scene, &gpu, &mut lights, &sets, &streams, culling);
         let ran_ms = running.elapsed().as_secs_f64() * 1e3;
-        self.graph = graph;
+        self.slot.graph = graph;
         let ran = frame?;
         let geometry_uploaded_bytes = gpu.geometry_uploaded;
         // 6. Read back and report.
@@ -234,11 +239,39 @@ impl Renderer {
         frame.report.cpu_record_ms = (ran_ms - submit_wait_ms).max(0.0);
         frame.report.submissions = submissions as u64;
         // Kept for the next frame: its meshes, per-frame buffers and vertex streams are reused.
-        self.gpu = Some(gpu);
-        self.streams = streams;
+        self.geometry = Some(gpu.geometry);
+        self.slot.frame = Some(gpu.frame);
+        self.slot.streams = streams;
         frame.report.cpu_frame_ms = started.elapsed().as_secs_f64() * 1e3;
         frame.report.geometry_uploaded_bytes = geometry_uploaded_bytes;
         frame.report.memory_allocations = self.ctx.memory_allocations() - allocations_before;
         Ok(frame)
+    }
+}
+
+/// The renderer's own targets: what an engine brings itself.
+struct OwnTargets {
+    color: Image,
+    depth: Image,
+    readback: Buffer,
+}
+
+impl OwnTargets {
+    fn new(ctx: &Context, depth_format: vk::Format, width: u32, height: u32) -> RenderResult<Self> {
+        Ok(Self {
+            color: frame_target(ctx, "colour target", width, height)?,
+            depth: Image::new(ctx, "depth/stencil target", depth_desc(depth_format, width, height))?,
+            readback: Buffer::new(ctx, "colour readback", BufferDesc::readback(4 * width as u64 * height as u64))?,
+        })
+    }
+}
+
+impl Renderer {
+    /// Its own targets; an error recording into an engine's frame, which has none.
+    fn own(&self) -> RenderResult<&OwnTargets> {
+        self.own.as_ref().ok_or_else(|| crate::RenderError::InvalidInput {
+            field: "Renderer::render".into(),
+            why: "this renderer records into an engine's frame (Shadows::record) and has no targets of its own".into(),
+        })
     }
 }

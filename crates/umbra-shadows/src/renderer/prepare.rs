@@ -321,7 +321,8 @@ impl Renderer {
             &view.view,
             &shadows,
             shadow_views,
-            self.gpu.take(),
+            self.geometry.take(),
+            self.slot.frame.take(),
         )?;
         if lights.iter().any(LightFrame::hybrid) {
             self.hybrid.bounds.bind_geometry(&self.ctx, &gpu, adjacency)?;

@@ -27,7 +27,7 @@ impl Renderer {
         run: FrameRun,
     ) -> RenderResult<Frame> {
         let bindings = self.bindings(sets);
-        let rgba = self.readback.read()?;
+        let rgba = self.own()?.readback.read()?;
         let overdraw = match (&self.overdraw, run.overdraw) {
             (Some((_, readback)), true) => Some(readback.read()?),
             _ => None,

@@ -1,0 +1,164 @@
+//! An engine's frame ([`crate::Shadows`]): the same plan, CPU preparation and shadow passes as
+//! [`Renderer::render`], recorded into the engine's command buffer over the engine's depth and
+//! ended by the hand-off; no submission, no wait, no readback. Blocker culling, which needs a
+//! query result mid-frame, is off (`Shadows::new` refuses it), and so are the diagnostics.
+
+use super::slot::FrameSlot;
+use super::lights::{FrameView, LightFrame};
+use super::Renderer;
+use crate::frame::{PassId, Use};
+use crate::hybrid::cull::CullingPlan;
+use crate::plan::LightPlan;
+use crate::timing::PassReport;
+use crate::view::View;
+use crate::RenderResult;
+use umbra_scene::Scene;
+use umbra_vk::{vk, Image, ImageState};
+
+/// The engine's depth for one frame: the image and the state it is in (and is left in).
+pub(crate) struct EngineDepth<'a> {
+    pub image: &'a Image,
+    pub state: ImageState,
+}
+
+/// What one light got in an engine's frame.
+pub(crate) struct RecordedLight {
+    pub plan: LightPlan,
+    /// Whether its technique wrote its visibility image (else it is lit unshadowed).
+    pub shadowed: bool,
+    /// Whether its shadow map was drawn (its views are in `plan.shadow_map`).
+    pub map: bool,
+}
+
+/// What an engine's frame recorded.
+pub(crate) struct RecordedFrame {
+    pub lights: Vec<RecordedLight>,
+    /// The passes recorded, in order, their GPU times not read yet.
+    pub passes: Vec<PassReport>,
+    /// Bytes of mesh data uploaded for it (0 when the meshes were unchanged).
+    pub geometry_uploaded_bytes: u64,
+}
+
+impl Renderer {
+    /// A frame slot for an engine's frames in flight.
+    pub(crate) fn new_slot(&self, index: usize) -> RenderResult<FrameSlot> {
+        FrameSlot::new(&self.ctx, &format!("shadow sets (frame slot {index})"), &self.shadow_set_layout)
+    }
+
+    /// Records the shadows of `scene` seen through `view` into `cmd` (an engine's command
+    /// buffer, recording), over `depth`, with `slot`'s host-written buffers, sets and queries.
+    pub(crate) fn record_into(
+        &mut self,
+        slot: &mut FrameSlot,
+        scene: &Scene,
+        view: View,
+        depth: EngineDepth<'_>,
+        cmd: vk::CommandBuffer,
+    ) -> RenderResult<RecordedFrame> {
+        std::mem::swap(&mut self.slot, slot);
+        let recorded = self.record_slot(scene, view, depth, cmd);
+        std::mem::swap(&mut self.slot, slot);
+        recorded
+    }
+
+    fn record_slot(
+        &mut self,
+        scene: &Scene,
+        view: View,
+        depth: EngineDepth<'_>,
+        cmd: vk::CommandBuffer,
+    ) -> RenderResult<RecordedFrame> {
+        // The same steps as `render` (see there), the view as the engine gave it.
+        let view = FrameView { view, boxes: scene.object_bounds() };
+        let mut lights = self.plan(scene, &view)?;
+        let adjacency = self.meshes.adjacency(scene)?;
+        let mut streams = std::mem::take(&mut self.slot.streams);
+        let prepared = self.prepare_maps(scene, &view, &adjacency, &mut lights, &mut streams).and_then(|shadow_views| {
+            self.prepare_volumes(scene, &view, &adjacency, &mut lights, &mut streams)?;
+            Ok(shadow_views)
+        });
+        let shadow_views = match prepared {
+            Ok(v) => v,
+            Err(e) => {
+                self.slot.streams = streams;
+                return Err(e);
+            }
+        };
+        let gpu = self.upload(scene, &view, &adjacency, &lights, &shadow_views);
+        let gpu = match gpu {
+            Ok(gpu) => gpu,
+            Err(e) => {
+                self.slot.streams = streams;
+                return Err(e);
+            }
+        };
+        self.settle_volumes(scene, &mut lights, &CullingPlan::default());
+        let recorded = self.bind(&lights).and_then(|sets| {
+            let mut graph = std::mem::take(&mut self.slot.graph);
+            let passes = self.record_passes(&mut graph, scene, &gpu, &lights, &sets, &streams, depth, cmd);
+            self.slot.graph = graph;
+            passes
+        });
+        let geometry_uploaded_bytes = gpu.geometry_uploaded;
+        self.geometry = Some(gpu.geometry);
+        self.slot.frame = Some(gpu.frame);
+        self.slot.streams = streams;
+        let (passes, shadowed) = recorded?;
+        let lights = lights
+            .into_iter()
+            .map(|l| RecordedLight {
+                shadowed: shadowed[l.light()],
+                map: l.map.as_ref().is_some_and(|m| m.depth),
+                plan: l.plan,
+            })
+            .collect();
+        Ok(RecordedFrame { lights, passes, geometry_uploaded_bytes })
+    }
+
+    /// Declares the views and every light's shadows, then the hand-off, and records them into
+    /// `cmd`; returns the passes and, per light, whether its visibility image was written.
+    #[allow(clippy::too_many_arguments)]
+    fn record_passes(
+        &self,
+        graph: &mut crate::frame::FrameGraph,
+        scene: &Scene,
+        gpu: &crate::gpu_scene::GpuScene,
+        lights: &[LightFrame],
+        sets: &[super::lights::LightSets],
+        streams: &crate::streams::Streams,
+        depth: EngineDepth<'_>,
+        cmd: vk::CommandBuffer,
+    ) -> RenderResult<(Vec<PassReport>, Vec<bool>)> {
+        graph.begin_frame();
+        graph.import(depth.image, depth.state);
+        let bindings = &self.bindings(sets);
+        let (edges, volumes) = (streams.edges.filled(), streams.volumes.filled());
+        let f = super::declare::FrameInputs { scene, gpu, lights, bindings, depth: depth.image, edges, volumes };
+        let mut stage = graph.stage("umbra shadows");
+        self.declare_views(&mut stage, f)?;
+        let (queries, _) = self.declare_shadows(&mut stage, f)?;
+        let shadowed: Vec<bool> = queries.iter().map(|q| q.shadowed).collect();
+        // The hand-off: what the engine reads, readable by its shaders; its depth as it was.
+        let mut uses = vec![Use::Image(depth.image, depth.state)];
+        for light in lights.iter().filter(|l| shadowed[l.light()]) {
+            uses.push(Use::Image(&self.visibility.light(light.light())?.image, ImageState::FragmentRead));
+        }
+        for light in lights.iter().filter(|l| l.map.as_ref().is_some_and(|m| m.depth)) {
+            uses.push(Use::Image(self.shadow_map.image(light.light())?, ImageState::FragmentRead));
+        }
+        stage.pass(PassId::HandOff, &uses, |_| Ok(()));
+        let mut rec = self.ctx.record_into(cmd);
+        let passes = graph.record(&self.ctx, &mut rec, stage)?.into_passes();
+        Ok((passes, shadowed))
+    }
+
+    /// Light `light`'s visibility image (while it is shadowed).
+    pub(crate) fn visibility_image(&self, light: usize) -> RenderResult<&Image> {
+        Ok(&self.visibility.light(light)?.image)
+    }
+
+    /// Light `light`'s shadow map (while it has one).
+    pub(crate) fn shadow_map_image(&self, light: usize) -> RenderResult<&Image> {
+        self.shadow_map.image(light)
+    }
+}
