@@ -26,10 +26,10 @@ use crate::hybrid::MaskKind;
 use crate::reach::{self, Clip, Planes, Unreached};
 use crate::shadow_map::frustum;
 use crate::technique::{needs, Casters};
+use crate::view::View;
 use crate::{RenderError, RenderResult};
 use glam::{Mat4, Vec4Swizzles};
 use serde::Serialize;
-use crate::view::View;
 use umbra_scene::{Aabb, LightKind, Scene, Technique};
 
 /// Why casters were left out of a light's shadow passes.

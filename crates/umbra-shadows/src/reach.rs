@@ -3,8 +3,8 @@
 //! range a bounded light covers. Every test answers "certainly not" or "maybe": culling on a
 //! "certainly not" never changes the image.
 
-use glam::{Mat4, Vec3, Vec4, Vec4Swizzles};
 use crate::view::View;
+use glam::{Mat4, Vec3, Vec4, Vec4Swizzles};
 use umbra_scene::{Aabb, Light};
 
 /// Clip-space planes of a view-projection (Vulkan: 0 ≤ z ≤ w), each a `Vec4` (n, d) with

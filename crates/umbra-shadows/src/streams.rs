@@ -16,12 +16,21 @@ pub(crate) struct Stream {
     generation: u64,
     /// Whether the last [`Stream::fill`] had data.
     filled: bool,
+    /// Whether a new buffer gets half as much again as asked for (vertex streams, whose size
+    /// drifts as things move; bound buffers stay exact, as their limits are checked exactly).
+    headroom: bool,
 }
 
 impl Stream {
     /// An empty stream for buffers named `name` with `usage`.
     pub const fn new(name: &'static str, usage: vk::BufferUsageFlags) -> Self {
-        Self { name, usage, buffer: None, generation: 0, filled: false }
+        Self { name, usage, buffer: None, generation: 0, filled: false, headroom: false }
+    }
+
+    /// A vertex stream: a new buffer holds half as much again as the data that needed it, so
+    /// that a moving scene's volumes and edges do not reallocate every few frames.
+    fn vertices(name: &'static str) -> Self {
+        Self { headroom: true, ..Self::new(name, vk::BufferUsageFlags::VERTEX_BUFFER) }
     }
 
     /// The buffer filled last, if any.
@@ -52,7 +61,9 @@ impl Stream {
             // The old one (if any) is freed before the larger one is made.
             _ => {
                 self.generation += 1;
-                Buffer::new(ctx, self.name, BufferDesc::cpu_to_gpu(bytes.len() as u64, self.usage))?
+                let size = bytes.len() as u64;
+                let size = if self.headroom { size + size / 2 } else { size };
+                Buffer::new(ctx, self.name, BufferDesc::cpu_to_gpu(size, self.usage))?
             }
         };
         let buffer = self.buffer.insert(buffer);
@@ -73,11 +84,10 @@ pub(crate) struct Streams {
 
 impl Default for Streams {
     fn default() -> Self {
-        let vertices = vk::BufferUsageFlags::VERTEX_BUFFER;
         Self {
-            edges: Stream::new("silhouette edges", vertices),
-            volumes: Stream::new("shadow volume vertices", vertices),
-            blockers: Stream::new("blocker boxes", vertices),
+            edges: Stream::vertices("silhouette edges"),
+            volumes: Stream::vertices("shadow volume vertices"),
+            blockers: Stream::vertices("blocker boxes"),
         }
     }
 }

@@ -182,7 +182,8 @@ impl Image {
         // SAFETY: `raw` was just created from `device`.
         let requirements = unsafe { device.get_image_memory_requirements(raw) };
         let allocation = memory::allocate(ctx, name, requirements, Memory::GpuOnly, false);
-        let mut image = Image { raw, view: vk::ImageView::null(), desc, allocation: None, owned: true, ctx: ctx.clone() };
+        let mut image =
+            Image { raw, view: vk::ImageView::null(), desc, allocation: None, owned: true, ctx: ctx.clone() };
         image.allocation = Some(allocation?);
         if let Some(a) = &image.allocation {
             // SAFETY: memory and offset come from an allocation made for these requirements.

@@ -3,8 +3,8 @@
 //! ended by the hand-off; no submission, no wait, no readback. Blocker culling, which needs a
 //! query result mid-frame, is off (`Shadows::new` refuses it), and so are the diagnostics.
 
-use super::slot::FrameSlot;
 use super::lights::{FrameView, LightFrame};
+use super::slot::FrameSlot;
 use super::Renderer;
 use crate::frame::{PassId, Use};
 use crate::hybrid::cull::CullingPlan;
@@ -73,10 +73,11 @@ impl Renderer {
         let mut lights = self.plan(scene, &view)?;
         let adjacency = self.meshes.adjacency(scene)?;
         let mut streams = std::mem::take(&mut self.slot.streams);
-        let prepared = self.prepare_maps(scene, &view, &adjacency, &mut lights, &mut streams).and_then(|shadow_views| {
-            self.prepare_volumes(scene, &view, &adjacency, &mut lights, &mut streams)?;
-            Ok(shadow_views)
-        });
+        let prepared =
+            self.prepare_maps(scene, &view, &adjacency, &mut lights, &mut streams).and_then(|shadow_views| {
+                self.prepare_volumes(scene, &view, &adjacency, &mut lights, &mut streams)?;
+                Ok(shadow_views)
+            });
         let shadow_views = match prepared {
             Ok(v) => v,
             Err(e) => {

@@ -10,8 +10,8 @@ use crate::shadow_map::frustum::LightViews;
 use crate::shadow_volume::build::LightVolumes;
 use crate::silhouette_map::edges::LightEdges;
 use crate::technique::{needs, Lighting};
-use crate::visibility::VisibilityReadback;
 use crate::view::View;
+use crate::visibility::VisibilityReadback;
 use umbra_scene::Aabb;
 use umbra_vk::DescriptorSet;
 

@@ -8,8 +8,8 @@
 //! - point: six 90° faces of a cube map (Arneson §3), oriented as Vulkan samples cube maps.
 
 use crate::reach::{Clip, Planes};
-use glam::{Mat4, Vec3, Vec4, Vec4Swizzles};
 use crate::view::View;
+use glam::{Mat4, Vec3, Vec4, Vec4Swizzles};
 use umbra_scene::{Aabb, Light, LightKind, Scene};
 
 /// Spot cones wider than this (half-angle, degrees) get a cube map.
@@ -462,8 +462,8 @@ fn any_up(dir: Vec3) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use umbra_scene::Camera;
     use crate::reach::corners;
+    use umbra_scene::Camera;
 
     /// Vulkan's cube face selection: (face, sc, tc, ma) for a direction.
     fn select_face(v: Vec3) -> (usize, f32, f32, f32) {

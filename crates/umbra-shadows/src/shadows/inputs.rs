@@ -20,6 +20,9 @@ pub struct DepthTarget {
     pub format: vk::Format,
     /// Its extent; the size [`crate::ShadowsDesc`] was made for.
     pub extent: vk::Extent2D,
+    /// The usage it was created with: `DEPTH_STENCIL_ATTACHMENT`, and `TRANSFER_SRC` where a
+    /// light uses the hybrid (its classification copies the depth).
+    pub usage: vk::ImageUsageFlags,
     /// Its sample count: only `TYPE_1` (resolve a multisampled depth first).
     pub samples: vk::SampleCountFlags,
     /// The layout it is in when umbra's commands begin, written by earlier commands of the
@@ -111,7 +114,9 @@ pub(crate) fn depth_state(layout: vk::ImageLayout) -> RenderResult<ImageState> {
         vk::ImageLayout::DEPTH_STENCIL_READ_ONLY_OPTIMAL => Ok(ImageState::DepthStencilReadOnly),
         other => Err(invalid(
             "FrameInputs::depth.layout".into(),
-            format!("{other:?}: hand the depth over in DEPTH_STENCIL_ATTACHMENT_OPTIMAL or DEPTH_STENCIL_READ_ONLY_OPTIMAL"),
+            format!(
+                "{other:?}: hand the depth over in DEPTH_STENCIL_ATTACHMENT_OPTIMAL or DEPTH_STENCIL_READ_ONLY_OPTIMAL"
+            ),
         )),
     }
 }

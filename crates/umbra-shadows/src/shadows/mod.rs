@@ -28,7 +28,7 @@ use crate::{RenderError, RenderResult};
 use glam::Mat4;
 use inputs::{convention, depth_state};
 use registry::{invalid, Registry};
-use umbra_scene::Mesh;
+use umbra_scene::{Mesh, Technique};
 use umbra_vk::{vk, Context, Image, ImageDesc};
 
 /// The most frames in flight a [`Shadows`] keeps resources for.
@@ -70,8 +70,9 @@ impl ShadowsDesc {
             return Err(RenderError::InvalidSetting {
                 field,
                 value: "true".into(),
-                accepted: "false: it reads results back in the middle of a frame, which an engine's frame does not wait for"
-                    .into(),
+                accepted:
+                    "false: it reads results back in the middle of a frame, which an engine's frame does not wait for"
+                        .into(),
             });
         }
         if !(1..=MAX_FRAMES_IN_FLIGHT).contains(&self.frames_in_flight) {
@@ -158,8 +159,8 @@ impl Shadows {
         scene.validate_placement()?;
         let d = inputs.depth;
         let (width, height) = (self.desc.settings.width, self.desc.settings.height);
-        let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
-        let depth = Image::external(&self.ctx, d.image, d.view, ImageDesc::new_2d(d.format, width, height).usage(usage));
+        let desc = ImageDesc::new_2d(d.format, width, height).usage(d.usage);
+        let depth = Image::external(&self.ctx, d.image, d.view, desc);
         let k = (inputs.frame_index % self.slots.len() as u64) as usize;
         let slot = &mut self.slots[k];
         let earlier_passes = slot.pending.take().map(|p| slot.graph.earlier_times(p)).transpose()?;
@@ -167,11 +168,7 @@ impl Shadows {
         let engine_depth = EngineDepth { image: &depth, state };
         let recorded = self.renderer.record_into(slot, &self.registry.scene, view, engine_depth, cmd)?;
         slot.pending = Some(recorded.passes);
-        let lights = recorded
-            .lights
-            .into_iter()
-            .map(|l| self.light_shadows(l))
-            .collect::<RenderResult<Vec<_>>>()?;
+        let lights = recorded.lights.into_iter().map(|l| self.light_shadows(l)).collect::<RenderResult<Vec<_>>>()?;
         Ok(ShadowFrame {
             lights,
             slot: k,
@@ -203,6 +200,20 @@ impl Shadows {
             return Err(invalid(field("depth.samples"), why));
         }
         let state = depth_state(d.layout)?;
+        if !d.usage.contains(vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT) {
+            return Err(invalid(
+                field("depth.usage"),
+                "needs DEPTH_STENCIL_ATTACHMENT: umbra's passes test against it".into(),
+            ));
+        }
+        let hybrid = inputs.lights.iter().position(|l| matches!(l.technique, Technique::Hybrid | Technique::Auto));
+        if let (Some(i), false) = (hybrid, d.usage.contains(vk::ImageUsageFlags::TRANSFER_SRC)) {
+            let why = format!(
+                "needs TRANSFER_SRC: light {i} uses {:?}, whose hybrid classification copies the depth",
+                inputs.lights[i].technique
+            );
+            return Err(invalid(field("depth.usage"), why));
+        }
         if !(inputs.view.is_finite() && inputs.view.determinant().abs() > 0.0) {
             return Err(invalid(field("view"), "must be finite and invertible".into()));
         }

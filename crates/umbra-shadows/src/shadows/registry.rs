@@ -140,8 +140,9 @@ mod tests {
     fn ids_stay_put_while_others_are_removed() {
         let mut r = Registry::default();
         let m = r.add_mesh(triangle()).unwrap();
-        let ids: Vec<InstanceId> =
-            (0..4).map(|k| r.add_instance(Instance::new(m, Mat4::from_translation(Vec3::X * k as f32))).unwrap()).collect();
+        let ids: Vec<InstanceId> = (0..4)
+            .map(|k| r.add_instance(Instance::new(m, Mat4::from_translation(Vec3::X * k as f32))).unwrap())
+            .collect();
         r.remove_instance(ids[1]).unwrap();
         r.set_transform(ids[3], Mat4::from_translation(Vec3::Z)).unwrap();
         assert_eq!(r.scene.objects.len(), 3);

@@ -1,0 +1,321 @@
+//! An engine's frame: a minimal "engine" (its own command buffer, depth image, depth pre-pass
+//! shader and vertex buffers) records umbra's shadows with `Shadows::record` and reads the
+//! visibility images back itself. Over a depth drawn the way umbra draws its own, they equal
+//! umbra's own renderer's, bit for bit, for every technique; moving an instance re-uploads
+//! nothing and allocates nothing; frames in flight each get their slot.
+
+mod common;
+
+use glam::{Mat4, Vec3};
+use umbra::scene::{Scene, Technique};
+use umbra::shadows::{
+    DepthTarget, FrameInputs, Instance, InstanceId, Renderer, RendererDesc, ShadowFrame, Shadows, ShadowsDesc,
+};
+use umbra::vk::{
+    vk, Buffer, BufferDesc, Context, DepthAttachment, GraphicsPipeline, GraphicsPipelineDesc, Image, ImageDesc,
+    ImageState, PipelineLayout, Recorder, RenderTargets, VertexAttribute,
+};
+
+const W: u32 = 256;
+const H: u32 = 192;
+
+/// The engine: its depth buffer, its depth pre-pass and its copy of every mesh's positions.
+struct Engine {
+    depth: Image,
+    layout: PipelineLayout,
+    pipeline: GraphicsPipeline,
+    meshes: Vec<(Buffer, Buffer, u32)>,
+}
+
+impl Engine {
+    fn new(ctx: &Context, scene: &Scene) -> Engine {
+        let format = ctx.capabilities().depth_stencil_format;
+        let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
+        let depth = Image::new(ctx, "engine depth", ImageDesc::new_2d(format, W, H).usage(usage)).unwrap();
+        let layout = PipelineLayout::new(ctx, "engine depth layout", &[], 128).unwrap();
+        let vertex = umbra::shaders::get("engine/depth.vert").unwrap().spirv;
+        let attributes = [VertexAttribute { location: 0, format: vk::Format::R32G32B32_SFLOAT, offset: 0 }];
+        let mut desc = GraphicsPipelineDesc::new("engine depth pre-pass", vertex);
+        desc.vertex_stride = 12;
+        desc.vertex_attributes = &attributes;
+        desc.cull = vk::CullModeFlags::NONE;
+        desc.depth_format = format;
+        let pipeline = GraphicsPipeline::new(ctx, &layout, &desc).unwrap();
+        let meshes = scene
+            .meshes
+            .iter()
+            .map(|m| {
+                let positions: Vec<[f32; 3]> = m.positions.iter().map(|p| p.to_array()).collect();
+                let v = Buffer::with_data(
+                    ctx,
+                    "engine vertices",
+                    vk::BufferUsageFlags::VERTEX_BUFFER,
+                    bytemuck::cast_slice(&positions),
+                );
+                let i = Buffer::with_data(
+                    ctx,
+                    "engine indices",
+                    vk::BufferUsageFlags::INDEX_BUFFER,
+                    bytemuck::cast_slice(&m.indices),
+                );
+                (v.unwrap(), i.unwrap(), m.indices.len() as u32)
+            })
+            .collect();
+        Engine { depth, layout, pipeline, meshes }
+    }
+
+    /// The depth pre-pass of `scene`'s objects seen through `view_proj`.
+    fn depth_pass<'a>(&'a self, rec: &mut Recorder<'a>, scene: &Scene, view_proj: Mat4) {
+        rec.transition(&[(&self.depth, ImageState::Undefined, ImageState::DepthStencilAttachment)]);
+        let depth = DepthAttachment {
+            image: &self.depth,
+            view: None,
+            clear: Some((1.0, 0)),
+            clear_stencil: None,
+            read_only: false,
+        };
+        rec.begin_rendering(&RenderTargets { color: &[], depth: Some(depth) });
+        rec.bind_pipeline(&self.pipeline);
+        for o in &scene.objects {
+            let (vertices, indices, count) = &self.meshes[o.mesh];
+            rec.push_constants(&self.layout, &[view_proj.to_cols_array(), o.transform.to_cols_array()]);
+            rec.bind_vertex_buffer(vertices);
+            rec.bind_index_buffer(indices);
+            rec.draw_indexed(*count, 0, 0);
+        }
+        rec.end_rendering();
+    }
+
+    fn depth_target(&self) -> DepthTarget {
+        DepthTarget {
+            image: self.depth.raw,
+            view: self.depth.view,
+            format: self.depth.desc.format,
+            usage: self.depth.desc.usage,
+            extent: vk::Extent2D { width: W, height: H },
+            samples: vk::SampleCountFlags::TYPE_1,
+            layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+        }
+    }
+}
+
+/// Registers `scene`'s meshes and objects, in order.
+fn register(shadows: &mut Shadows, scene: &Scene) -> Vec<InstanceId> {
+    let meshes: Vec<_> = scene.meshes.iter().map(|m| shadows.add_mesh(m.clone()).unwrap()).collect();
+    scene
+        .objects
+        .iter()
+        .map(|o| {
+            let instance = Instance {
+                mesh: meshes[o.mesh],
+                transform: o.transform,
+                casts_shadows: o.casts_shadows,
+                receives_shadows: o.receives_shadows,
+            };
+            shadows.add_instance(instance).unwrap()
+        })
+        .collect()
+}
+
+fn inputs<'a>(engine: &Engine, scene: &'a Scene, frame_index: u64) -> FrameInputs<'a> {
+    let aspect = W as f32 / H as f32;
+    FrameInputs {
+        depth: engine.depth_target(),
+        view: scene.camera.view(),
+        proj: scene.camera.projection(aspect),
+        lights: &scene.lights,
+        frame_index,
+    }
+}
+
+/// One engine frame: depth pre-pass, umbra's shadows, then the engine copies every visibility
+/// image out. Returns what `record` said and each shadowed light's texels (as bits).
+fn engine_frame(
+    ctx: &Context,
+    engine: &Engine,
+    shadows: &mut Shadows,
+    scene: &Scene,
+    index: u64,
+) -> (ShadowFrame, Vec<(usize, Vec<u32>)>) {
+    // Declared first: the recording borrows them until it is submitted.
+    let (images, readbacks): (Vec<(usize, Image)>, Vec<Buffer>);
+    let mut rec = ctx.begin_commands("engine frame").unwrap();
+    let i = inputs(engine, scene, index);
+    engine.depth_pass(&mut rec, scene, i.proj * i.view);
+    let frame = shadows.record(rec.raw(), &i).unwrap();
+    images = frame
+        .lights
+        .iter()
+        .filter_map(|l| l.visibility.map(|v| (l.light, v)))
+        .map(|(l, v)| (l, Image::external(ctx, v.image, v.view, ImageDesc::new_2d(v.format, W, H))))
+        .collect();
+    readbacks = images
+        .iter()
+        .map(|_| Buffer::new(ctx, "engine readback", BufferDesc::readback(8 * u64::from(W * H))).unwrap())
+        .collect();
+    for ((_, image), buffer) in images.iter().zip(&readbacks) {
+        rec.transition(&[(image, ImageState::FragmentRead, ImageState::TransferSrc)]);
+        rec.copy_image_to_buffer(image, 0, buffer);
+        rec.transition(&[(image, ImageState::TransferSrc, ImageState::FragmentRead)]);
+    }
+    rec.transfer_to_host(&readbacks.iter().collect::<Vec<_>>());
+    ctx.submit_and_wait(rec).unwrap();
+    let texels = images
+        .iter()
+        .zip(&readbacks)
+        .map(|((l, _), b)| (*l, bytemuck::cast_slice::<u8, u32>(&b.read().unwrap()).to_vec()))
+        .collect();
+    (frame, texels)
+}
+
+/// `name` with every light using `technique`, seen through an infinite far plane (the depth
+/// convention umbra's renderer uses whenever a light needs volumes, so one for all techniques).
+fn scene(name: &str, technique: Technique) -> Scene {
+    let mut scene = umbra::scene::load(name).unwrap();
+    scene.camera.far = None;
+    for light in &mut scene.lights {
+        light.technique = technique;
+    }
+    scene
+}
+
+#[test]
+fn the_engines_visibility_images_equal_the_renderers_bit_for_bit() {
+    common::with_context(|ctx| {
+        let cases = [
+            ("cubes", Technique::ShadowMap),
+            ("cubes", Technique::ShadowVolume),
+            ("cubes", Technique::Hybrid),
+            ("pins", Technique::SilhouetteMap),
+            ("pins", Technique::Hybrid),
+        ];
+        for (name, technique) in cases {
+            let mut scene = scene(name, technique);
+            if technique == Technique::SilhouetteMap {
+                for light in &mut scene.lights {
+                    if light.kind() == umbra::scene::LightKind::Point {
+                        let p = light.position.truncate();
+                        *light = umbra::scene::Light::spot(p, Vec3::ZERO - p, 40.0, 50.0, 1.0);
+                        light.technique = technique;
+                    }
+                }
+            }
+            let mut desc = RendererDesc::new(W, H);
+            desc.read_visibility = true;
+            let own = Renderer::new(ctx, desc).unwrap().render(&scene).unwrap();
+            let engine = Engine::new(ctx, &scene);
+            let settings = RendererDesc::new(W, H);
+            let mut shadows = Shadows::new(
+                ctx,
+                ShadowsDesc { settings, depth_format: engine.depth.desc.format, frames_in_flight: 1 },
+            )
+            .unwrap();
+            register(&mut shadows, &scene);
+            let (_, texels) = engine_frame(ctx, &engine, &mut shadows, &scene, 0);
+            assert!(!own.visibility.is_empty(), "{name} {technique:?}: the renderer shadowed no light");
+            assert_eq!(texels.len(), own.visibility.len(), "{name} {technique:?}: shadowed lights");
+            for ((light, bits), image) in texels.iter().zip(&own.visibility) {
+                assert_eq!(*light, image.light);
+                let expected: Vec<u32> = image.texels.iter().flat_map(|t| [t[0].to_bits(), t[1].to_bits()]).collect();
+                let differ = bits.iter().zip(&expected).filter(|(a, b)| a != b).count();
+                assert_eq!(differ, 0, "{name} {technique:?} light {light}: {differ} texel channels differ");
+            }
+            println!("{name} {technique:?}: {} lights' visibility images identical", texels.len());
+        }
+    });
+}
+
+#[test]
+fn moving_an_instance_uploads_and_allocates_nothing_after_the_first_frame() {
+    common::with_context(|ctx| {
+        let mut scene = scene("cubes", Technique::Hybrid);
+        let engine = Engine::new(ctx, &scene);
+        let settings = RendererDesc::new(W, H);
+        let desc = ShadowsDesc { settings, depth_format: engine.depth.desc.format, frames_in_flight: 1 };
+        let mut shadows = Shadows::new(ctx, desc).unwrap();
+        let ids = register(&mut shadows, &scene);
+        let (moving, start) = (scene.objects.len() - 1, scene.objects.last().unwrap().transform);
+        let mut images = Vec::new();
+        for frame in 0..10u64 {
+            let t = Mat4::from_translation(Vec3::new(0.05 * frame as f32, 0.0, 0.0)) * start;
+            scene.objects[moving].transform = t;
+            shadows.set_transform(ids[moving], t).unwrap();
+            let (report, texels) = engine_frame(ctx, &engine, &mut shadows, &scene, frame);
+            if frame == 0 {
+                assert!(report.geometry_uploaded_bytes > 0, "the first frame uploads the meshes");
+            } else {
+                assert_eq!(report.geometry_uploaded_bytes, 0, "frame {frame} uploaded mesh data");
+                assert_eq!(report.memory_allocations, 0, "frame {frame} allocated Vulkan memory");
+                assert!(report.earlier_passes.is_some(), "frame {frame}: the slot's earlier passes");
+            }
+            images.push(texels);
+        }
+        assert!(images.windows(2).all(|w| w[0] != w[1]), "the moving instance's shadow moved every frame");
+        println!("10 frames: one upload and every allocation in frame 0, shadows moved every frame");
+    });
+}
+
+#[test]
+fn three_frames_in_flight_each_record_into_their_own_slot() {
+    common::with_context(|ctx| {
+        let mut scene = scene("cubes", Technique::ShadowVolume);
+        let engine = Engine::new(ctx, &scene);
+        let settings = RendererDesc::new(W, H);
+        let desc = ShadowsDesc { settings, depth_format: engine.depth.desc.format, frames_in_flight: 3 };
+        let mut shadows = Shadows::new(ctx, desc).unwrap();
+        let ids = register(&mut shadows, &scene);
+        let device = ctx.device();
+        // SAFETY: the engine's own frame resources, destroyed below once every fence signalled.
+        let (pool, cmds, fences, queue) = unsafe {
+            let info = vk::CommandPoolCreateInfo::default()
+                .queue_family_index(ctx.queue_family())
+                .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+            let pool = device.create_command_pool(&info, None).unwrap();
+            let alloc = vk::CommandBufferAllocateInfo::default().command_pool(pool).command_buffer_count(3);
+            let cmds = device.allocate_command_buffers(&alloc).unwrap();
+            let signalled = vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED);
+            let fences: Vec<vk::Fence> = (0..3).map(|_| device.create_fence(&signalled, None).unwrap()).collect();
+            (pool, cmds, fences, device.get_device_queue(ctx.queue_family(), 0))
+        };
+        let moving = scene.objects.len() - 1;
+        let start = scene.objects[moving].transform;
+        for frame in 0..9u64 {
+            let slot = (frame % 3) as usize;
+            let (cmd, fence) = (cmds[slot], fences[slot]);
+            // SAFETY: the engine waits for its own slot's fence before reusing the slot.
+            unsafe {
+                device.wait_for_fences(&[fence], true, u64::MAX).unwrap();
+                device.reset_fences(&[fence]).unwrap();
+                device.reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty()).unwrap();
+                device.begin_command_buffer(cmd, &vk::CommandBufferBeginInfo::default()).unwrap();
+            }
+            let t = Mat4::from_translation(Vec3::new(0.0, 0.0, 0.05 * frame as f32)) * start;
+            scene.objects[moving].transform = t;
+            shadows.set_transform(ids[moving], t).unwrap();
+            let i = inputs(&engine, &scene, frame);
+            let recorded = {
+                let mut rec = ctx.record_into(cmd);
+                engine.depth_pass(&mut rec, &scene, i.proj * i.view);
+                shadows.record(cmd, &i).unwrap()
+            };
+            assert_eq!(recorded.slot, slot);
+            assert_eq!(recorded.earlier_passes.is_some(), frame >= 3, "frame {frame}: the slot's earlier frame");
+            // SAFETY: the engine ends and submits its own command buffer, signalling its slot's fence.
+            unsafe {
+                device.end_command_buffer(cmd).unwrap();
+                let cmd_info = [vk::CommandBufferSubmitInfo::default().command_buffer(cmd)];
+                let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmd_info)];
+                device.queue_submit2(queue, &submit, fence).unwrap();
+            }
+        }
+        // SAFETY: every frame completed before its resources go.
+        unsafe {
+            device.wait_for_fences(&fences, true, u64::MAX).unwrap();
+            for f in fences {
+                device.destroy_fence(f, None);
+            }
+            device.destroy_command_pool(pool, None);
+        }
+        println!("9 frames over 3 slots, a fence each, recorded without a wait inside umbra");
+    });
+}
