@@ -86,6 +86,15 @@ impl Engine {
         rec.end_rendering();
     }
 
+    /// umbra's shadows for this engine's depth with `frames` in flight, `scene` registered.
+    fn shadows(&self, ctx: &Context, scene: &Scene, frames: u32) -> (Shadows, Vec<InstanceId>) {
+        let settings = RendererDesc::new(W, H);
+        let desc = ShadowsDesc { settings, depth_format: self.depth.desc.format, frames_in_flight: frames };
+        let mut shadows = Shadows::new(ctx, desc).unwrap();
+        let ids = register(&mut shadows, scene);
+        (shadows, ids)
+    }
+
     fn depth_target(&self) -> DepthTarget {
         DepthTarget {
             image: self.depth.raw,
@@ -204,13 +213,7 @@ fn the_engines_visibility_images_equal_the_renderers_bit_for_bit() {
             desc.read_visibility = true;
             let own = Renderer::new(ctx, desc).unwrap().render(&scene).unwrap();
             let engine = Engine::new(ctx, &scene);
-            let settings = RendererDesc::new(W, H);
-            let mut shadows = Shadows::new(
-                ctx,
-                ShadowsDesc { settings, depth_format: engine.depth.desc.format, frames_in_flight: 1 },
-            )
-            .unwrap();
-            register(&mut shadows, &scene);
+            let (mut shadows, _) = engine.shadows(ctx, &scene, 1);
             let (_, texels) = engine_frame(ctx, &engine, &mut shadows, &scene, 0);
             assert!(!own.visibility.is_empty(), "{name} {technique:?}: the renderer shadowed no light");
             assert_eq!(texels.len(), own.visibility.len(), "{name} {technique:?}: shadowed lights");
@@ -230,10 +233,7 @@ fn moving_an_instance_uploads_and_allocates_nothing_after_the_first_frame() {
     common::with_context(|ctx| {
         let mut scene = scene("cubes", Technique::Hybrid);
         let engine = Engine::new(ctx, &scene);
-        let settings = RendererDesc::new(W, H);
-        let desc = ShadowsDesc { settings, depth_format: engine.depth.desc.format, frames_in_flight: 1 };
-        let mut shadows = Shadows::new(ctx, desc).unwrap();
-        let ids = register(&mut shadows, &scene);
+        let (mut shadows, ids) = engine.shadows(ctx, &scene, 1);
         let (moving, start) = (scene.objects.len() - 1, scene.objects.last().unwrap().transform);
         let mut images = Vec::new();
         for frame in 0..10u64 {
@@ -260,10 +260,7 @@ fn three_frames_in_flight_each_record_into_their_own_slot() {
     common::with_context(|ctx| {
         let mut scene = scene("cubes", Technique::ShadowVolume);
         let engine = Engine::new(ctx, &scene);
-        let settings = RendererDesc::new(W, H);
-        let desc = ShadowsDesc { settings, depth_format: engine.depth.desc.format, frames_in_flight: 3 };
-        let mut shadows = Shadows::new(ctx, desc).unwrap();
-        let ids = register(&mut shadows, &scene);
+        let (mut shadows, ids) = engine.shadows(ctx, &scene, 3);
         let device = ctx.device();
         // SAFETY: the engine's own frame resources, destroyed below once every fence signalled.
         let (pool, cmds, fences, queue) = unsafe {
