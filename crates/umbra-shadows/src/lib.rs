@@ -13,6 +13,7 @@
 #![warn(missing_docs)]
 
 mod budget;
+mod depth_rebuild;
 pub mod diagnostics;
 mod error;
 mod forward;
@@ -49,8 +50,8 @@ pub use report::{FrameReport, MeshTopology, SceneSummary, TopologySource, Volume
 pub use shadow_map::{DepthBias, ShadowFilter, ShadowMapSettings};
 pub use shadow_volume::{FarPlane, HostClip, ShadowVolumeSettings, VolumeMode};
 pub use shadows::{
-    DepthTarget, FrameInputs, Instance, InstanceId, LightShadows, MeshId, SampledImage, ShadowFrame, ShadowMapOutput,
-    Shadows, ShadowsDesc,
+    DepthTarget, FrameInputs, Instance, InstanceId, LightShadows, MeshId, RebuildReason, SampledImage, ShadowFrame,
+    ShadowMapOutput, Shadows, ShadowsDesc,
 };
 pub use timing::PassReport;
 pub use visibility::{VisibilityImage, VISIBILITY_FORMAT};

@@ -16,6 +16,9 @@ pub enum PassId {
     BlockerCulling,
     /// Depth plus the ambient term of every object.
     Ambient,
+    /// An engine's frame: every object's depth re-drawn into umbra's own depth/stencil, in its
+    /// convention (the engine's depth has none or another; `crate::shadows`).
+    DepthRebuild,
     /// Diagnostic: world positions and normals for the exact reference.
     GBuffer,
     /// Everitt–Kilgard: the stencil counts of a shadow-volume light.
@@ -65,6 +68,7 @@ impl PassId {
             PassId::SilhouetteMap(l) => format!("silhouette_map {l}"),
             PassId::BlockerCulling => "blocker culling".into(),
             PassId::Ambient => "ambient".into(),
+            PassId::DepthRebuild => "depth rebuild".into(),
             PassId::GBuffer => "g-buffer".into(),
             PassId::ShadowVolume(l) => format!("shadow_volume {l}"),
             PassId::StencilVisibility(l) => format!("visibility {l} (stencil)"),
@@ -89,7 +93,12 @@ impl PassId {
     /// The light the pass serves, if any.
     pub fn light(self) -> Option<usize> {
         match self {
-            PassId::BlockerCulling | PassId::Ambient | PassId::GBuffer | PassId::Readback | PassId::HandOff => None,
+            PassId::BlockerCulling
+            | PassId::Ambient
+            | PassId::DepthRebuild
+            | PassId::GBuffer
+            | PassId::Readback
+            | PassId::HandOff => None,
             PassId::ShadowMap(l)
             | PassId::SilhouetteMap(l)
             | PassId::ShadowVolume(l)
@@ -132,7 +141,14 @@ mod tests {
 
     /// Every pass a frame can record for lights 0 and 1.
     fn every_pass() -> Vec<PassId> {
-        let mut all = vec![PassId::BlockerCulling, PassId::Ambient, PassId::GBuffer, PassId::Readback, PassId::HandOff];
+        let mut all = vec![
+            PassId::BlockerCulling,
+            PassId::Ambient,
+            PassId::DepthRebuild,
+            PassId::GBuffer,
+            PassId::Readback,
+            PassId::HandOff,
+        ];
         for l in 0..2 {
             all.extend([
                 PassId::ShadowMap(l),

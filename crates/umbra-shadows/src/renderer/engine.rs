@@ -21,6 +21,15 @@ pub(crate) struct EngineDepth<'a> {
     pub state: ImageState,
 }
 
+/// The depth an engine's frame is recorded over.
+pub(crate) enum FrameDepth<'a> {
+    /// The engine's, drawn in umbra's convention and with a stencil where one is needed:
+    /// umbra's passes test against it and leave it as it was.
+    Engine(EngineDepth<'a>),
+    /// umbra's own, re-drawn first (`crate::depth_rebuild`): the engine's depth is not touched.
+    Rebuilt,
+}
+
 /// What one light got in an engine's frame.
 pub(crate) struct RecordedLight {
     pub plan: LightPlan,
@@ -52,9 +61,13 @@ impl Renderer {
         slot: &mut FrameSlot,
         scene: &Scene,
         view: View,
-        depth: EngineDepth<'_>,
+        depth: FrameDepth<'_>,
         cmd: vk::CommandBuffer,
     ) -> RenderResult<RecordedFrame> {
+        if let FrameDepth::Rebuilt = depth {
+            let ctx = self.ctx.clone();
+            self.rebuild()?.image(&ctx)?;
+        }
         std::mem::swap(&mut self.slot, slot);
         let recorded = self.record_slot(scene, view, depth, cmd);
         std::mem::swap(&mut self.slot, slot);
@@ -65,7 +78,7 @@ impl Renderer {
         &mut self,
         scene: &Scene,
         view: View,
-        depth: EngineDepth<'_>,
+        depth: FrameDepth<'_>,
         cmd: vk::CommandBuffer,
     ) -> RenderResult<RecordedFrame> {
         // The same steps as `render` (see there), the view as the engine gave it.
@@ -73,38 +86,9 @@ impl Renderer {
         let mut lights = self.plan(scene, &view)?;
         let adjacency = self.meshes.adjacency(scene)?;
         let mut streams = std::mem::take(&mut self.slot.streams);
-        let prepared =
-            self.prepare_maps(scene, &view, &adjacency, &mut lights, &mut streams).and_then(|shadow_views| {
-                self.prepare_volumes(scene, &view, &adjacency, &mut lights, &mut streams)?;
-                Ok(shadow_views)
-            });
-        let shadow_views = match prepared {
-            Ok(v) => v,
-            Err(e) => {
-                self.slot.streams = streams;
-                return Err(e);
-            }
-        };
-        let gpu = self.upload(scene, &view, &adjacency, &lights, &shadow_views);
-        let gpu = match gpu {
-            Ok(gpu) => gpu,
-            Err(e) => {
-                self.slot.streams = streams;
-                return Err(e);
-            }
-        };
-        self.settle_volumes(scene, &mut lights, &CullingPlan::default());
-        let recorded = self.bind(&lights).and_then(|sets| {
-            let mut graph = std::mem::take(&mut self.slot.graph);
-            let passes = self.record_passes(&mut graph, scene, &gpu, &lights, &sets, &streams, depth, cmd);
-            self.slot.graph = graph;
-            passes
-        });
-        let geometry_uploaded_bytes = gpu.geometry_uploaded;
-        self.geometry = Some(gpu.geometry);
-        self.slot.frame = Some(gpu.frame);
+        let recorded = self.record_streams(scene, &view, &adjacency, &mut lights, &mut streams, depth, cmd);
         self.slot.streams = streams;
-        let (passes, shadowed) = recorded?;
+        let (passes, shadowed, geometry_uploaded_bytes) = recorded?;
         let lights = lights
             .into_iter()
             .map(|l| RecordedLight {
@@ -114,6 +98,35 @@ impl Renderer {
             })
             .collect();
         Ok(RecordedFrame { lights, passes, geometry_uploaded_bytes })
+    }
+
+    /// Prepares, uploads and records the frame with the slot's `streams` taken out of it.
+    #[allow(clippy::too_many_arguments)]
+    fn record_streams(
+        &mut self,
+        scene: &Scene,
+        view: &FrameView,
+        adjacency: &[std::sync::Arc<umbra_scene::Adjacency>],
+        lights: &mut [LightFrame],
+        streams: &mut crate::streams::Streams,
+        depth: FrameDepth<'_>,
+        cmd: vk::CommandBuffer,
+    ) -> RenderResult<(Vec<PassReport>, Vec<bool>, u64)> {
+        let shadow_views = self.prepare_maps(scene, view, adjacency, lights, streams)?;
+        self.prepare_volumes(scene, view, adjacency, lights, streams)?;
+        let gpu = self.upload(scene, view, adjacency, lights, &shadow_views)?;
+        self.settle_volumes(scene, lights, &CullingPlan::default());
+        let recorded = self.bind(lights).and_then(|sets| {
+            let mut graph = std::mem::take(&mut self.slot.graph);
+            let passes = self.record_passes(&mut graph, scene, &gpu, lights, &sets, streams, depth, cmd);
+            self.slot.graph = graph;
+            passes
+        });
+        let geometry_uploaded_bytes = gpu.geometry_uploaded;
+        self.geometry = Some(gpu.geometry);
+        self.slot.frame = Some(gpu.frame);
+        let (passes, shadowed) = recorded?;
+        Ok((passes, shadowed, geometry_uploaded_bytes))
     }
 
     /// Declares the views and every light's shadows, then the hand-off, and records them into
@@ -127,20 +140,34 @@ impl Renderer {
         lights: &[LightFrame],
         sets: &[super::lights::LightSets],
         streams: &crate::streams::Streams,
-        depth: EngineDepth<'_>,
+        depth: FrameDepth<'_>,
         cmd: vk::CommandBuffer,
     ) -> RenderResult<(Vec<PassReport>, Vec<bool>)> {
         graph.begin_frame();
-        graph.import(depth.image, depth.state);
         let bindings = &self.bindings(sets);
         let (edges, volumes) = (streams.edges.filled(), streams.volumes.filled());
-        let f = super::declare::FrameInputs { scene, gpu, lights, bindings, depth: depth.image, edges, volumes };
         let mut stage = graph.stage("umbra shadows");
+        // The engine's depth as it was handed over, or umbra's own, drawn first.
+        let (image, handed_over) = match depth {
+            FrameDepth::Engine(d) => {
+                graph.import(d.image, d.state);
+                (d.image, Some(d))
+            }
+            FrameDepth::Rebuilt => {
+                let rebuild = self.rebuild_ref()?;
+                let image = rebuild.made()?;
+                stage.pass(PassId::DepthRebuild, &[Use::Image(image, ImageState::DepthStencilAttachment)], move |cx| {
+                    rebuild.record(cx.rec, &self.layout, gpu, scene, cx.log)
+                });
+                (image, None)
+            }
+        };
+        let f = super::declare::FrameInputs { scene, gpu, lights, bindings, depth: image, edges, volumes };
         self.declare_views(&mut stage, f)?;
         let (queries, _) = self.declare_shadows(&mut stage, f)?;
         let shadowed: Vec<bool> = queries.iter().map(|q| q.shadowed).collect();
         // The hand-off: what the engine reads, readable by its shaders; its depth as it was.
-        let mut uses = vec![Use::Image(depth.image, depth.state)];
+        let mut uses: Vec<Use> = handed_over.iter().map(|d| Use::Image(d.image, d.state)).collect();
         for light in lights.iter().filter(|l| shadowed[l.light()]) {
             uses.push(Use::Image(&self.visibility.light(light.light())?.image, ImageState::FragmentRead));
         }
@@ -153,6 +180,15 @@ impl Renderer {
         Ok((passes, shadowed))
     }
 
+    /// The depth rebuild (engine renderers only).
+    fn rebuild(&mut self) -> RenderResult<&mut crate::depth_rebuild::DepthRebuild> {
+        self.depth_rebuild.as_mut().ok_or_else(not_engine)
+    }
+
+    fn rebuild_ref(&self) -> RenderResult<&crate::depth_rebuild::DepthRebuild> {
+        self.depth_rebuild.as_ref().ok_or_else(not_engine)
+    }
+
     /// Light `light`'s visibility image (while it is shadowed).
     pub(crate) fn visibility_image(&self, light: usize) -> RenderResult<&Image> {
         Ok(&self.visibility.light(light)?.image)
@@ -161,5 +197,12 @@ impl Renderer {
     /// Light `light`'s shadow map (while it has one).
     pub(crate) fn shadow_map_image(&self, light: usize) -> RenderResult<&Image> {
         self.shadow_map.image(light)
+    }
+}
+
+fn not_engine() -> crate::RenderError {
+    crate::RenderError::InvalidInput {
+        field: "Renderer".into(),
+        why: "only a renderer recording into an engine's frame rebuilds depth".into(),
     }
 }

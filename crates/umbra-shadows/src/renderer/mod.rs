@@ -17,9 +17,10 @@ mod results;
 mod slot;
 
 pub use desc::{Frame, RendererDesc, COLOR_FORMAT};
-pub(crate) use engine::{EngineDepth, RecordedLight};
+pub(crate) use engine::{EngineDepth, FrameDepth, RecordedLight};
 pub(crate) use slot::FrameSlot;
 
+use crate::depth_rebuild::DepthRebuild;
 use crate::diagnostics::DiagnosticTargets;
 use crate::forward::Forward;
 use crate::gbuffer::GBufferPass;
@@ -33,7 +34,8 @@ use crate::shadow_volume::FarPlane;
 use crate::silhouette_map::pass::SilhouetteMapPass;
 use crate::visibility::{self, VisibilityPass};
 use crate::RenderResult;
-use desc::{check_frame_size, depth_desc, frame_target};
+pub(crate) use desc::depth_desc;
+use desc::{check_frame_size, frame_target};
 use std::sync::Arc;
 use std::time::Instant;
 use umbra_scene::Scene;
@@ -74,6 +76,8 @@ pub struct Renderer {
     overdraw: Option<(Image, Buffer)>,
     /// The G-buffer pass (with `gbuffer`).
     gbuffer: Option<GBufferPass>,
+    /// umbra's own depth for engine frames whose depth its passes cannot use (engine only).
+    depth_rebuild: Option<crate::depth_rebuild::DepthRebuild>,
 }
 
 impl Renderer {
@@ -155,6 +159,10 @@ impl Renderer {
             false => None,
         };
         let slot = FrameSlot::new(ctx, "shadow sets", &shadow_set_layout)?;
+        let depth_rebuild = match &own {
+            Some(_) => None,
+            None => Some(DepthRebuild::new(ctx, &layout, depth_format, desc.width, desc.height)?),
+        };
         Ok(Self {
             ctx: ctx.clone(),
             desc,
@@ -177,6 +185,7 @@ impl Renderer {
             readbacks: Vec::new(),
             overdraw,
             gbuffer,
+            depth_rebuild,
         })
     }
 

@@ -12,7 +12,10 @@ use umbra_vk::{vk, ImageState};
 /// The engine's depth buffer for a frame.
 #[derive(Clone, Copy, Debug)]
 pub struct DepthTarget {
-    /// The image: single-sampled, one layer, with `DEPTH_STENCIL_ATTACHMENT` usage.
+    /// The image, one layer. umbra's passes test it as it is when it is single-sampled, has
+    /// a stencil and was drawn in umbra's depth convention ([`FrameInputs::proj`]); otherwise
+    /// umbra re-draws depth into an image of its own and does not touch this one
+    /// ([`ShadowFrame::depth_rebuilt`]).
     pub image: vk::Image,
     /// A view of it with every aspect it has (depth, and stencil for D32S8 / D24S8).
     pub view: vk::ImageView,
@@ -20,10 +23,10 @@ pub struct DepthTarget {
     pub format: vk::Format,
     /// Its extent; the size [`crate::ShadowsDesc`] was made for.
     pub extent: vk::Extent2D,
-    /// The usage it was created with: `DEPTH_STENCIL_ATTACHMENT`, and `TRANSFER_SRC` where a
-    /// light uses the hybrid (its classification copies the depth).
+    /// The usage it was created with: where umbra tests it, `DEPTH_STENCIL_ATTACHMENT`, and
+    /// `TRANSFER_SRC` where a light uses the hybrid (its classification copies the depth).
     pub usage: vk::ImageUsageFlags,
-    /// Its sample count: only `TYPE_1` (resolve a multisampled depth first).
+    /// Its sample count (multisampled: umbra re-draws depth single-sampled).
     pub samples: vk::SampleCountFlags,
     /// The layout it is in when umbra's commands begin, written by earlier commands of the
     /// engine's (a depth pre-pass); umbra leaves it in the same layout.
@@ -39,10 +42,13 @@ pub struct FrameInputs<'a> {
     pub depth: DepthTarget,
     /// World to view, right-handed (the camera looks down -Z), as the engine built it.
     pub view: Mat4,
-    /// View to clip, as the engine built it: a perspective with Vulkan's 0..1 depth, depth
-    /// growing with distance; its far plane at infinity wherever a light uses shadow volumes
-    /// or the hybrid (unless `shadow_volume.far_plane` is `DepthClamp`). umbra's viewport is
-    /// y-up (row 0 is clip-space y = +1), as `glam`'s `perspective_rh` expects.
+    /// View to clip, as the engine built it: a right-handed perspective (`w_clip = -z_view`)
+    /// with Vulkan's 0..1 depth, standard or reversed-Z, finite or infinite far plane. umbra's
+    /// own convention — standard depth, and the far plane at infinity wherever a light's
+    /// volumes must reach it (shadow volumes, the hybrid, unless `shadow_volume.far_plane` is
+    /// `DepthClamp`) — lets it test the engine's depth; any other makes it re-draw its own.
+    /// umbra's viewport is y-up (row 0 is clip-space y = +1), as `glam`'s `perspective_rh`
+    /// expects.
     pub proj: Mat4,
     /// This frame's lights, each with its technique.
     pub lights: &'a [Light],
@@ -105,6 +111,9 @@ pub struct ShadowFrame {
     pub geometry_uploaded_bytes: u64,
     /// Vulkan memory allocations made while recording it (0 once warm).
     pub memory_allocations: u64,
+    /// Why umbra re-drew the scene's depth into an image of its own this frame (a depth-only
+    /// pass, `depth rebuild`), or `None` when its passes tested the engine's depth as it was.
+    pub depth_rebuilt: Option<RebuildReason>,
 }
 
 /// The state `layout` stands for, or a typed error naming the field.
@@ -150,6 +159,68 @@ pub(crate) fn convention(proj: Mat4) -> RenderResult<Convention> {
     Ok(Convention { reversed, infinite })
 }
 
+/// Why umbra re-drew its own depth for a frame instead of testing the engine's
+/// ([`ShadowFrame::depth_rebuilt`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RebuildReason {
+    /// The engine's depth is multisampled; umbra's passes are single-sampled.
+    Multisampled,
+    /// The engine's depth has no stencil, and shadow volumes count in one.
+    NoStencil,
+    /// The engine's projection is reversed-Z; umbra's passes test standard depth.
+    ReversedZ,
+    /// The engine's far plane is finite, and a light's volumes reach infinity (no depth clamp).
+    FiniteFar,
+}
+
+impl std::fmt::Display for RebuildReason {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Multisampled => "the depth is multisampled",
+            Self::NoStencil => "the depth has no stencil",
+            Self::ReversedZ => "the projection is reversed-Z",
+            Self::FiniteFar => "the far plane is finite and a light's volumes reach infinity",
+        })
+    }
+}
+
+/// Why umbra's passes cannot test against a depth of `samples` and `format` drawn with
+/// convention `c`, or `None` when they can. `finite_allowed`: no light needs volumes reaching
+/// infinity without depth clamp.
+pub(crate) fn rebuild_reason(
+    samples: vk::SampleCountFlags,
+    format: vk::Format,
+    c: Convention,
+    finite_allowed: bool,
+) -> Option<RebuildReason> {
+    let stencil = umbra_vk::format_aspect(format).contains(vk::ImageAspectFlags::STENCIL);
+    if samples != vk::SampleCountFlags::TYPE_1 {
+        Some(RebuildReason::Multisampled)
+    } else if !stencil {
+        Some(RebuildReason::NoStencil)
+    } else if c.reversed {
+        Some(RebuildReason::ReversedZ)
+    } else if !(c.infinite || finite_allowed) {
+        Some(RebuildReason::FiniteFar)
+    } else {
+        None
+    }
+}
+
+/// `proj` (of convention `c`) in umbra's own: the same x, y and w rows, so that every pixel
+/// covers what it covered, and standard depth with the far plane at infinity (glam's
+/// `perspective_infinite_rh` for the same near plane).
+pub(crate) fn standard_infinite(proj: Mat4, c: Convention) -> Mat4 {
+    // z_clip = a·z + b and w = -z: depth 0 (standard) or 1 (reversed) at z = -near. In f64, so
+    // that the near plane comes back as the engine gave it wherever f32 allows.
+    let (a, b) = (f64::from(proj.z_axis.z), f64::from(proj.w_axis.z));
+    let near = if c.reversed { b / (1.0 + a) } else { b / a };
+    let mut out = proj;
+    out.z_axis.z = -1.0;
+    out.w_axis.z = -near as f32;
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -165,6 +236,32 @@ mod tests {
         assert_eq!(c(reversed_infinite), Convention { reversed: true, infinite: true });
         let orthographic = Mat4::orthographic_rh(-1.0, 1.0, -1.0, 1.0, 0.1, 10.0);
         assert!(convention(orthographic).unwrap_err().to_string().starts_with("FrameInputs::proj: must be"));
+        for p in [Mat4::perspective_rh(fov, aspect, 0.1, 100.0), reversed_infinite] {
+            let standard = standard_infinite(p, c(p));
+            // x and y rows are kept as given (glam rounds them one ulp apart between builders).
+            assert!(standard.abs_diff_eq(Mat4::perspective_infinite_rh(fov, aspect, 0.1), 1e-6), "{p}");
+            assert_eq!(standard.z_axis.z, -1.0);
+        }
+        let reversed_finite = standard_infinite(
+            Mat4::perspective_rh(fov, aspect, 100.0, 0.1),
+            c(Mat4::perspective_rh(fov, aspect, 100.0, 0.1)),
+        );
+        assert!((reversed_finite.w_axis.z + 0.1).abs() < 1e-7, "{reversed_finite}");
+        let standard = Convention { reversed: false, infinite: true };
+        let (one, d32s8, d32) = (vk::SampleCountFlags::TYPE_1, vk::Format::D32_SFLOAT_S8_UINT, vk::Format::D32_SFLOAT);
+        assert_eq!(rebuild_reason(one, d32s8, standard, false), None);
+        assert_eq!(
+            rebuild_reason(vk::SampleCountFlags::TYPE_4, d32s8, standard, false),
+            Some(RebuildReason::Multisampled)
+        );
+        assert_eq!(rebuild_reason(one, d32, standard, true), Some(RebuildReason::NoStencil));
+        assert_eq!(
+            rebuild_reason(one, d32s8, Convention { reversed: true, infinite: true }, true),
+            Some(RebuildReason::ReversedZ)
+        );
+        let finite = Convention { reversed: false, infinite: false };
+        assert_eq!(rebuild_reason(one, d32s8, finite, false), Some(RebuildReason::FiniteFar));
+        assert_eq!(rebuild_reason(one, d32s8, finite, true), None);
         assert!(depth_state(vk::ImageLayout::GENERAL).unwrap_err().to_string().contains("FrameInputs::depth.layout"));
     }
 }

@@ -11,25 +11,27 @@
 //!
 //! The techniques, their plan and their passes are exactly those of [`crate::Renderer`]: over
 //! a depth drawn the way umbra draws its own, the visibility images are the same, bit for bit
-//! (`tests/embed.rs`).
+//! (`tests/embed.rs`). A depth umbra's passes cannot test as it is (multisampled, without
+//! stencil, reversed-Z, or a finite far plane where volumes must reach infinity) is re-drawn
+//! into an image of umbra's own first ([`RebuildReason`]).
 
 mod inputs;
 mod registry;
 
-pub use inputs::{DepthTarget, FrameInputs, LightShadows, SampledImage, ShadowFrame, ShadowMapOutput};
+pub use inputs::{DepthTarget, FrameInputs, LightShadows, RebuildReason, SampledImage, ShadowFrame, ShadowMapOutput};
 pub use registry::{Instance, InstanceId, MeshId};
 
-use crate::renderer::{EngineDepth, FrameSlot, Renderer, RendererDesc};
+use crate::renderer::{EngineDepth, FrameDepth, FrameSlot, Renderer, RendererDesc};
 use crate::shadow_volume::FarPlane;
 use crate::technique::needs;
 use crate::view::View;
 use crate::visibility::VISIBILITY_FORMAT;
 use crate::{RenderError, RenderResult};
 use glam::Mat4;
-use inputs::{convention, depth_state};
+use inputs::{convention, depth_state, rebuild_reason, standard_infinite};
 use registry::{invalid, Registry};
 use umbra_scene::{Mesh, Technique};
-use umbra_vk::{vk, Context, Image, ImageDesc};
+use umbra_vk::{vk, Context, Image, ImageDesc, ImageState};
 
 /// The most frames in flight a [`Shadows`] keeps resources for.
 pub const MAX_FRAMES_IN_FLIGHT: u32 = 8;
@@ -41,8 +43,10 @@ pub struct ShadowsDesc {
     /// engine's depth extent). Diagnostics, the G-buffer, visibility readbacks, volume overdraw
     /// and the hybrid's blocker culling read results back mid-frame and are refused here.
     pub settings: RendererDesc,
-    /// The engine's depth format: `D32_SFLOAT`, `D32_SFLOAT_S8_UINT` or `D24_UNORM_S8_UINT`
-    /// (shadow volumes and the hybrid count in the stencil, so they need one of the last two).
+    /// The engine's depth format: `D32_SFLOAT_S8_UINT`, `D24_UNORM_S8_UINT` or `D32_SFLOAT`.
+    /// With a stencil, umbra's passes are built for it and test the engine's depth; without
+    /// one, they are built for the device's depth/stencil format and umbra re-draws depth into
+    /// an image of its own every frame ([`ShadowFrame::depth_rebuilt`]).
     pub depth_format: vk::Format,
     /// How many frames the engine has in flight (1 to [`MAX_FRAMES_IN_FLIGHT`]): one set of
     /// host-written buffers, descriptor sets and query pools each.
@@ -107,7 +111,7 @@ impl Shadows {
     /// The pipelines for `desc`'s depth format and the resources of each frame in flight.
     pub fn new(ctx: &Context, desc: ShadowsDesc) -> RenderResult<Self> {
         desc.validate()?;
-        let renderer = Renderer::for_engine(ctx, desc.settings, desc.depth_format)?;
+        let renderer = Renderer::for_engine(ctx, desc.settings, passes_format(ctx, desc.depth_format)?)?;
         let slots = (0..desc.frames_in_flight as usize).map(|i| renderer.new_slot(i)).collect::<RenderResult<_>>()?;
         Ok(Self { ctx: ctx.clone(), desc, renderer, registry: Registry::default(), slots })
     }
@@ -152,7 +156,7 @@ impl Shadows {
     /// recorded, names the input umbra cannot use.
     pub fn record(&mut self, cmd: vk::CommandBuffer, inputs: &FrameInputs<'_>) -> RenderResult<ShadowFrame> {
         let allocations = self.ctx.memory_allocations();
-        let state = self.check(inputs)?;
+        let (state, proj) = self.check(inputs)?;
         let scene = &mut self.registry.scene;
         scene.lights.clear();
         scene.lights.extend_from_slice(inputs.lights);
@@ -164,9 +168,12 @@ impl Shadows {
         let k = (inputs.frame_index % self.slots.len() as u64) as usize;
         let slot = &mut self.slots[k];
         let earlier_passes = slot.pending.take().map(|p| slot.graph.earlier_times(p)).transpose()?;
-        let view = View::of_matrices(inputs.view, inputs.proj);
-        let engine_depth = EngineDepth { image: &depth, state };
-        let recorded = self.renderer.record_into(slot, &self.registry.scene, view, engine_depth, cmd)?;
+        let view = View::of_matrices(inputs.view, proj);
+        let frame_depth = match state {
+            Ok(state) => FrameDepth::Engine(EngineDepth { image: &depth, state }),
+            Err(_) => FrameDepth::Rebuilt,
+        };
+        let recorded = self.renderer.record_into(slot, &self.registry.scene, view, frame_depth, cmd)?;
         slot.pending = Some(recorded.passes);
         let lights = recorded.lights.into_iter().map(|l| self.light_shadows(l)).collect::<RenderResult<Vec<_>>>()?;
         Ok(ShadowFrame {
@@ -175,11 +182,14 @@ impl Shadows {
             earlier_passes,
             geometry_uploaded_bytes: recorded.geometry_uploaded_bytes,
             memory_allocations: self.ctx.memory_allocations() - allocations,
+            depth_rebuilt: state.err(),
         })
     }
 
-    /// Checks `inputs` against what this `Shadows` was made for; returns the depth's state.
-    fn check(&self, inputs: &FrameInputs<'_>) -> RenderResult<umbra_vk::ImageState> {
+    /// Checks `inputs` against what this `Shadows` was made for. Returns the depth's state
+    /// when umbra's passes use the engine's depth as it is (else why umbra re-draws its own,
+    /// `crate::depth_rebuild`) and the projection umbra's passes use.
+    fn check(&self, inputs: &FrameInputs<'_>) -> RenderResult<(Result<ImageState, RebuildReason>, Mat4)> {
         let d = inputs.depth;
         let field = |f: &str| format!("FrameInputs::{f}");
         if d.format != self.desc.depth_format {
@@ -191,13 +201,14 @@ impl Shadows {
             let why = format!("{}x{}, but this Shadows was made for {width}x{height}", d.extent.width, d.extent.height);
             return Err(invalid(field("depth.extent"), why));
         }
-        if d.samples != vk::SampleCountFlags::TYPE_1 {
-            let why = format!(
-                "{:?}: umbra reads a single-sampled depth; resolve yours first (a depth resolve attachment, \
-                 VK_KHR_depth_stencil_resolve, mode SAMPLE_ZERO) and hand over the resolved image",
-                d.samples
-            );
-            return Err(invalid(field("depth.samples"), why));
+        if !(inputs.view.is_finite() && inputs.view.determinant().abs() > 0.0) {
+            return Err(invalid(field("view"), "must be finite and invertible".into()));
+        }
+        let c = convention(inputs.proj)?;
+        let clamp = self.desc.settings.shadow_volume.far_plane == FarPlane::DepthClamp;
+        let finite_allowed = clamp || !inputs.lights.iter().any(|l| needs(l.technique).infinite_camera);
+        if let Some(reason) = rebuild_reason(d.samples, d.format, c, finite_allowed) {
+            return Ok((Err(reason), standard_infinite(inputs.proj, c)));
         }
         let state = depth_state(d.layout)?;
         if !d.usage.contains(vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT) {
@@ -214,37 +225,7 @@ impl Shadows {
             );
             return Err(invalid(field("depth.usage"), why));
         }
-        if !(inputs.view.is_finite() && inputs.view.determinant().abs() > 0.0) {
-            return Err(invalid(field("view"), "must be finite and invertible".into()));
-        }
-        let c = convention(inputs.proj)?;
-        if c.reversed {
-            let why = "reversed depth is not supported yet: hand over a standard-depth (0 at the near plane) \
-                       projection and depth";
-            return Err(invalid(field("proj"), why.into()));
-        }
-        for (i, light) in inputs.lights.iter().enumerate() {
-            if !needs(light.technique).infinite_camera {
-                continue;
-            }
-            let clamp = self.desc.settings.shadow_volume.far_plane == FarPlane::DepthClamp;
-            if !c.infinite && !clamp {
-                let why = format!(
-                    "has a finite far plane, but light {i} uses {:?}, whose volumes reach infinity: use an infinite \
-                     far plane (glam's perspective_infinite_rh) or shadow_volume.far_plane = DepthClamp",
-                    light.technique
-                );
-                return Err(invalid(field("proj"), why));
-            }
-            if !umbra_vk::format_aspect(d.format).contains(vk::ImageAspectFlags::STENCIL) {
-                let why = format!(
-                    "{:?} has no stencil, but light {i} uses {:?}, which counts in it: use D32_SFLOAT_S8_UINT",
-                    d.format, light.technique
-                );
-                return Err(invalid(field("depth.format"), why));
-            }
-        }
-        Ok(state)
+        Ok((Ok(state), inputs.proj))
     }
 
     /// What the engine gets of one recorded light.
@@ -273,5 +254,22 @@ impl Shadows {
             _ => None,
         };
         Ok(LightShadows { light, visibility, shadow_map, plan: l.plan })
+    }
+}
+
+/// Whether `format` has a stencil aspect.
+fn has_stencil(format: vk::Format) -> bool {
+    umbra_vk::format_aspect(format).contains(vk::ImageAspectFlags::STENCIL)
+}
+
+/// The depth format umbra's passes are built for: the engine's when it has a stencil, else the
+/// device's depth/stencil format (umbra then re-draws depth into its own image every frame).
+fn passes_format(ctx: &Context, engine: vk::Format) -> RenderResult<vk::Format> {
+    if has_stencil(engine) {
+        return Ok(engine);
+    }
+    match ctx.capabilities().depth_stencil_format {
+        vk::Format::UNDEFINED => Err(ctx.unsupported("any depth/stencil attachment format").into()),
+        format => Ok(format),
     }
 }
