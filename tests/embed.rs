@@ -22,10 +22,11 @@ use umbra::vk::{
 const W: u32 = 256;
 const H: u32 = 192;
 
-/// How an engine draws its depth: the format, reversed-Z or not, and its far plane.
+/// How an engine draws its depth: the format, samples, reversed-Z or not, and its far plane.
 #[derive(Clone, Copy, Debug)]
 struct Convention {
     format: vk::Format,
+    samples: vk::SampleCountFlags,
     reversed: bool,
     far: Option<f32>,
 }
@@ -33,7 +34,8 @@ struct Convention {
 impl Convention {
     /// umbra's own: standard depth, far plane at infinity, the device's depth/stencil format.
     fn umbra(ctx: &Context) -> Self {
-        Self { format: ctx.capabilities().depth_stencil_format, reversed: false, far: None }
+        let format = ctx.capabilities().depth_stencil_format;
+        Self { format, samples: vk::SampleCountFlags::TYPE_1, reversed: false, far: None }
     }
 
     /// The projection an engine of this convention builds for `scene`'s camera (glam's builders).
@@ -65,7 +67,8 @@ impl Engine {
     fn with(ctx: &Context, scene: &Scene, convention: Convention) -> Engine {
         let format = convention.format;
         let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
-        let depth = Image::new(ctx, "engine depth", ImageDesc::new_2d(format, W, H).usage(usage)).unwrap();
+        let desc = ImageDesc::new_2d(format, W, H).usage(usage).samples(convention.samples);
+        let depth = Image::new(ctx, "engine depth", desc).unwrap();
         let layout = PipelineLayout::new(ctx, "engine depth layout", &[], 128).unwrap();
         let vertex = umbra::shaders::get("engine/depth.vert").unwrap().spirv;
         let attributes = [VertexAttribute { location: 0, format: vk::Format::R32G32B32_SFLOAT, offset: 0 }];
@@ -74,6 +77,7 @@ impl Engine {
         desc.vertex_attributes = &attributes;
         desc.cull = vk::CullModeFlags::NONE;
         desc.depth_format = format;
+        desc.samples = convention.samples;
         if convention.reversed {
             desc.depth.compare = vk::CompareOp::GREATER_OR_EQUAL;
         }
@@ -139,7 +143,7 @@ impl Engine {
             format: self.depth.desc.format,
             usage: self.depth.desc.usage,
             extent: vk::Extent2D { width: W, height: H },
-            samples: vk::SampleCountFlags::TYPE_1,
+            samples: self.convention.samples,
             layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
         }
     }
@@ -306,6 +310,49 @@ fn moving_an_instance_uploads_and_allocates_nothing_after_the_first_frame() {
 }
 
 #[test]
+fn a_mesh_added_between_frames_is_uploaded_inside_the_engines_frame() {
+    common::with_context(|ctx| {
+        // `full` has one more mesh and object than `start`: a copy of the last object's mesh,
+        // beside it.
+        let mut full = scene("cubes", Technique::Hybrid);
+        let last = full.objects.last().unwrap().clone();
+        full.meshes.push(full.meshes[last.mesh].clone());
+        let mut added = last.clone();
+        added.mesh = full.meshes.len() - 1;
+        added.transform = Mat4::from_translation(Vec3::new(-1.5, 0.0, 1.0)) * last.transform;
+        full.objects.push(added.clone());
+        let mut start = full.clone();
+        start.meshes.pop();
+        start.objects.pop();
+        let engine = Engine::new(ctx, &full);
+        let (mut shadows, _) = engine.shadows(ctx, &start, 1);
+        let (first, texels) = engine_frame(ctx, &engine, &mut shadows, &start, 0);
+        assert!(first.geometry_uploaded_bytes > 0, "the first frame uploads the meshes");
+        assert_eq!(differing(&texels, &renderer_bits(ctx, &start)), 0, "before the mesh is added");
+        let mesh = shadows.add_mesh(full.meshes.last().unwrap().clone()).unwrap();
+        let instance = Instance {
+            mesh,
+            transform: added.transform,
+            casts_shadows: added.casts_shadows,
+            receives_shadows: added.receives_shadows,
+        };
+        shadows.add_instance(instance).unwrap();
+        let (frame, texels) = engine_frame(ctx, &engine, &mut shadows, &full, 1);
+        assert!(frame.geometry_uploaded_bytes > 0, "the new mesh is uploaded");
+        assert_eq!((first.submissions, frame.submissions), (0, 0), "umbra submitted inside record");
+        let own = renderer_bits(ctx, &full);
+        assert!(differing(&own, &renderer_bits(ctx, &start)) > 0, "the added object changes the shadows");
+        assert_eq!(differing(&texels, &own), 0, "after the mesh is added");
+        let passes = engine_frame(ctx, &engine, &mut shadows, &full, 2).0.earlier_passes.unwrap();
+        assert_eq!(passes.first().map(|p| p.name.as_str()), Some("mesh upload"), "{passes:?}");
+        println!(
+            "a mesh added between frames: {} bytes uploaded by the frame's own first pass, no submission",
+            frame.geometry_uploaded_bytes
+        );
+    });
+}
+
+#[test]
 fn three_frames_in_flight_each_record_into_their_own_slot() {
     common::with_context(|ctx| {
         let mut scene = scene("cubes", Technique::ShadowVolume);
@@ -367,14 +414,17 @@ fn three_frames_in_flight_each_record_into_their_own_slot() {
     });
 }
 
-/// Every way an engine may draw its depth that umbra's passes cannot test as it is — reversed-Z,
-/// no stencil, a finite far plane where volumes must reach infinity — and a finite far plane
-/// and D24S8 that they can. `None`: the depth is used as it is.
+/// Every way an engine may draw its depth that umbra's passes cannot test as it is — 4× MSAA,
+/// reversed-Z, no stencil, a finite far plane where volumes must reach infinity — and a finite
+/// far plane and D24S8 that they can. `None`: the depth is used as it is.
 fn conventions(ctx: &Context, far: f32) -> Vec<(Convention, Technique, Option<RebuildReason>)> {
     let (d32s8, d32, d24s8) = (vk::Format::D32_SFLOAT_S8_UINT, vk::Format::D32_SFLOAT, vk::Format::D24_UNORM_S8_UINT);
-    let c = |format, reversed, far| Convention { format, reversed, far };
+    let one = vk::SampleCountFlags::TYPE_1;
+    let c = |format, reversed, far| Convention { format, samples: one, reversed, far };
+    let msaa = Convention { samples: vk::SampleCountFlags::TYPE_4, ..c(d32s8, false, None) };
     let mut cases = Vec::new();
     for t in [Technique::ShadowMap, Technique::ShadowVolume, Technique::Hybrid] {
+        cases.push((msaa, t, Some(RebuildReason::Multisampled)));
         cases.push((c(d32s8, true, None), t, Some(RebuildReason::ReversedZ)));
         cases.push((c(d32, false, None), t, Some(RebuildReason::NoStencil)));
         cases.push((c(d24s8, false, None), t, None));

@@ -19,9 +19,11 @@ fn render_and_check(renderer: &mut Renderer, spec: &str, stem: &str) {
     frame.save_png(&common::output_dir("scenes").join(format!("{stem}.png"))).unwrap();
     assert!(covered > 0.05, "{spec}: only {:.1}% of pixels differ from the background", covered * 100.0);
     assert!(!frame.rgba.chunks_exact(4).any(|p| p == [0xCD; 4]), "{spec}: poisoned readback bytes survived");
-    // Ambient, readback, and every other pass belongs to a light, which has a lighting pass.
+    // Ambient, readback, the mesh upload of a frame that uploaded them, and every other pass
+    // belongs to a light, which has a lighting pass.
     let per_light: usize = frame.report.lights.iter().map(|l| l.passes.len()).sum();
-    assert_eq!(frame.report.passes.len(), 2 + per_light, "{spec}: ambient + each light's passes + readback");
+    let upload = usize::from(frame.report.geometry_uploaded_bytes > 0);
+    assert_eq!(frame.report.passes.len(), 2 + upload + per_light, "{spec}: ambient + each light's passes + readback");
     for l in frame.report.lights.iter().filter(|l| l.recorded) {
         assert!(l.passes.iter().any(|p| p.starts_with("light ")), "{spec}: light {} has no lighting pass", l.light);
     }

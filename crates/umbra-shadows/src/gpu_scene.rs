@@ -9,7 +9,8 @@ use glam::{Mat4, Vec3};
 use std::sync::Arc;
 use umbra_scene::{Mesh, Scene};
 use umbra_vk::{
-    vk, Binding, Buffer, Capabilities, Context, DescriptorSet, DescriptorSetLayout, Limit, Resource, VertexAttribute,
+    vk, Binding, Buffer, BufferDesc, Capabilities, Context, DescriptorSet, DescriptorSetLayout, Limit, Recorder,
+    Resource, VertexAttribute,
 };
 
 /// Interleaved vertex: position then normal.
@@ -169,6 +170,22 @@ pub(crate) struct GpuScene {
     pub geometry_uploaded: u64,
     /// Camera, objects, lights and shadow views, with the scene descriptor set.
     pub frame: FrameBuffers,
+    /// The meshes' data, when they changed: copied into `geometry` by the frame's first pass.
+    pub upload: Option<MeshUpload>,
+}
+
+/// The staging buffers of a mesh upload: the frame's `mesh upload` pass copies them into the
+/// scene's vertex and index buffers; they live until that frame completed (its slot keeps them).
+pub(crate) struct MeshUpload {
+    vertices: Buffer,
+    indices: Buffer,
+}
+
+impl MeshUpload {
+    /// Copies the staged meshes into `geometry`'s buffers, visible to every later read.
+    pub fn record<'a>(&'a self, rec: &mut Recorder<'a>, geometry: &'a SceneGeometry) {
+        rec.copy_staged(&[(&self.vertices, &geometry.vertices), (&self.indices, &geometry.indices)]);
+    }
 }
 
 /// The set-0 layout every forward pass uses.
@@ -311,40 +328,31 @@ impl GpuScene {
             nonempty(bytemuck::cast_slice(&views)),
         ];
         let frame = FrameBuffers::write(ctx, layout, previous_frame, data)?;
-        let (geometry, geometry_uploaded) = match (reused, packed) {
-            (Some(g), _) => (g, 0),
+        let (geometry, staged) = match (reused, packed) {
+            (Some(g), _) => (g, None),
             (None, packed) => {
                 let (vertices, indices, meshes) = packed.unwrap_or_default();
-                // One submission for both buffers.
-                let mut uploaded = Buffer::upload_many(
-                    ctx,
-                    &[
-                        (
-                            "scene vertices",
-                            // Storage too: the hybrid's bounds pull whole triangles.
-                            vk::BufferUsageFlags::VERTEX_BUFFER | vk::BufferUsageFlags::STORAGE_BUFFER,
-                            nonempty(bytemuck::cast_slice(&vertices)),
-                        ),
-                        (
-                            "scene indices",
-                            vk::BufferUsageFlags::INDEX_BUFFER | vk::BufferUsageFlags::STORAGE_BUFFER,
-                            nonempty(bytemuck::cast_slice(&indices)),
-                        ),
-                    ],
-                )?
-                .into_iter();
-                let missing = || umbra_vk::VkError::InvalidDesc {
-                    what: "scene upload",
-                    why: "upload_many returned fewer buffers than asked for".into(),
+                let (vertices, indices) =
+                    (nonempty(bytemuck::cast_slice(&vertices)), nonempty(bytemuck::cast_slice(&indices)));
+                // Storage too: the hybrid's bounds pull whole triangles.
+                let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
+                let buffer =
+                    |name, usage, data: &[u8]| Buffer::new(ctx, name, BufferDesc::gpu_only(data.len() as u64, usage));
+                let staged = MeshUpload {
+                    vertices: Buffer::staging(ctx, "scene vertices", vertices)?,
+                    indices: Buffer::staging(ctx, "scene indices", indices)?,
                 };
-                let vertices = uploaded.next().ok_or_else(missing)?;
-                let indices = uploaded.next().ok_or_else(missing)?;
-                let bytes = vertices.desc.size + indices.desc.size;
-                let revisions = scene.meshes.iter().map(|m| m.revision()).collect();
-                (Arc::new(SceneGeometry { vertices, indices, meshes, revisions }), bytes)
+                let geometry = SceneGeometry {
+                    vertices: buffer("scene vertices", usage | vk::BufferUsageFlags::VERTEX_BUFFER, vertices)?,
+                    indices: buffer("scene indices", usage | vk::BufferUsageFlags::INDEX_BUFFER, indices)?,
+                    meshes,
+                    revisions: scene.meshes.iter().map(|m| m.revision()).collect(),
+                };
+                (Arc::new(geometry), Some(staged))
             }
         };
-        Ok(Self { geometry, geometry_uploaded, frame })
+        let geometry_uploaded = staged.as_ref().map_or(0, |s| s.vertices.desc.size + s.indices.desc.size);
+        Ok(Self { geometry, geometry_uploaded, frame, upload: staged })
     }
 }
 

@@ -105,23 +105,22 @@ impl Buffer {
     pub fn upload_many(ctx: &Context, uploads: &[(&str, vk::BufferUsageFlags, &[u8])]) -> VkResult<Vec<Self>> {
         let mut pairs = Vec::with_capacity(uploads.len());
         for &(name, usage, data) in uploads {
-            let size = data.len() as u64;
-            let buffer = Buffer::new(ctx, name, BufferDesc::gpu_only(size, usage))?;
-            let mut staging = Buffer::new(
-                ctx,
-                &format!("{name} (staging)"),
-                BufferDesc::cpu_to_gpu(size, vk::BufferUsageFlags::TRANSFER_SRC),
-            )?;
-            staging.write(0, data)?;
-            pairs.push((staging, buffer));
+            let buffer = Buffer::new(ctx, name, BufferDesc::gpu_only(data.len() as u64, usage))?;
+            pairs.push((Buffer::staging(ctx, name, data)?, buffer));
         }
         let mut rec = ctx.begin_commands("upload")?;
-        for (staging, buffer) in &pairs {
-            rec.copy_buffer(staging, buffer, buffer.desc.size);
-        }
-        rec.transfer_to_reads();
+        rec.copy_staged(&pairs.iter().map(|(staging, buffer)| (staging, buffer)).collect::<Vec<_>>());
         ctx.submit_and_wait(rec)?;
         Ok(pairs.into_iter().map(|(_, buffer)| buffer).collect())
+    }
+
+    /// A host-visible `TRANSFER_SRC` buffer holding `data`, to be copied into the device-local
+    /// buffer `name` by [`crate::Recorder::copy_staged`]; it must live until that copy ran.
+    pub fn staging(ctx: &Context, name: &str, data: &[u8]) -> VkResult<Self> {
+        let desc = BufferDesc::cpu_to_gpu(data.len() as u64, vk::BufferUsageFlags::TRANSFER_SRC);
+        let mut staging = Buffer::new(ctx, &format!("{name} (staging)"), desc)?;
+        staging.write(0, data)?;
+        Ok(staging)
     }
 
     /// Writes `data` at `offset` into a host-visible buffer.

@@ -123,6 +123,7 @@ impl Context {
         self.set_name(fence, "submit fence");
         let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(rec.cmd)];
         let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmds)];
+        self.count_submission();
         let result = self.queue().and_then(|q| {
             // SAFETY: the queue is locked; every resource recorded is borrowed for the
             // recorder's lifetime, which covers this call, and we wait for completion below.
@@ -219,6 +220,15 @@ impl<'a> Recorder<'a> {
         let dep = vk::DependencyInfo::default().image_memory_barriers(&barriers);
         // SAFETY: images are alive for 'a; stage masks are never empty on the destination side.
         unsafe { self.device().cmd_pipeline_barrier2(self.cmd, &dep) };
+    }
+
+    /// Copies each staging buffer ([`Buffer::staging`]) whole into its device-local buffer,
+    /// then makes the copies visible to every later read (one global barrier).
+    pub fn copy_staged(&mut self, pairs: &[(&'a Buffer, &'a Buffer)]) {
+        for (staging, buffer) in pairs {
+            self.copy_buffer(staging, buffer, staging.desc.size);
+        }
+        self.transfer_to_reads();
     }
 
     /// Makes transfer writes to buffers visible to every later read (one global barrier).

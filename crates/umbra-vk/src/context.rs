@@ -110,6 +110,8 @@ pub(crate) struct Inner {
     counter: Arc<ValidationCounter>,
     /// Memory allocations made for buffers and images so far.
     allocations: std::sync::atomic::AtomicU64,
+    /// Queue submissions umbra made so far.
+    submissions: std::sync::atomic::AtomicU64,
     owns_device: bool,
     pub(crate) presentation: bool,
 }
@@ -257,6 +259,7 @@ impl Context {
                 debug: a.debug,
                 counter: a.counter,
                 allocations: std::sync::atomic::AtomicU64::new(0),
+                submissions: std::sync::atomic::AtomicU64::new(0),
                 owns_device: a.owns_device,
                 presentation: a.presentation,
             }),
@@ -328,6 +331,16 @@ impl Context {
     /// buffer or image it created): the difference across a frame is what the frame allocated.
     pub fn memory_allocations(&self) -> u64 {
         self.inner.allocations.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
+    /// How many queue submissions umbra made through this context so far (its own command
+    /// buffers; never an engine's, which the engine submits).
+    pub fn submissions(&self) -> u64 {
+        self.inner.submissions.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
+    pub(crate) fn count_submission(&self) {
+        self.inner.submissions.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     }
 
     pub(crate) fn count_allocation(&self) {

@@ -21,22 +21,32 @@ pub struct ImageDesc {
     pub format: vk::Format,
     /// Usage flags.
     pub usage: vk::ImageUsageFlags,
+    /// Samples per texel (`TYPE_1` unless multisampled).
+    pub samples: vk::SampleCountFlags,
 }
 
 impl ImageDesc {
     /// A single-layer 2D image.
     pub fn new_2d(format: vk::Format, width: u32, height: u32) -> Self {
-        Self { width, height, layers: 1, cube: false, format, usage: vk::ImageUsageFlags::empty() }
+        let (usage, samples) = (vk::ImageUsageFlags::empty(), vk::SampleCountFlags::TYPE_1);
+        Self { width, height, layers: 1, cube: false, format, usage, samples }
     }
 
     /// A cube image: six square layers.
     pub fn new_cube(format: vk::Format, size: u32) -> Self {
-        Self { width: size, height: size, layers: 6, cube: true, format, usage: vk::ImageUsageFlags::empty() }
+        let (usage, samples) = (vk::ImageUsageFlags::empty(), vk::SampleCountFlags::TYPE_1);
+        Self { width: size, height: size, layers: 6, cube: true, format, usage, samples }
     }
 
     /// Same description with `usage`.
     pub fn usage(mut self, usage: vk::ImageUsageFlags) -> Self {
         self.usage = usage;
+        self
+    }
+
+    /// Same description, multisampled with `samples` per texel (an attachment only).
+    pub fn samples(mut self, samples: vk::SampleCountFlags) -> Self {
+        self.samples = samples;
         self
     }
 
@@ -170,7 +180,7 @@ impl Image {
             .extent(vk::Extent3D { width: desc.width, height: desc.height, depth: 1 })
             .mip_levels(1)
             .array_layers(desc.layers)
-            .samples(vk::SampleCountFlags::TYPE_1)
+            .samples(desc.samples)
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(desc.usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE)

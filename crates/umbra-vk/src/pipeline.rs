@@ -182,6 +182,8 @@ pub struct GraphicsPipelineDesc<'a> {
     pub color_targets: &'a [ColorTarget],
     /// Depth(/stencil) attachment format, or `UNDEFINED`.
     pub depth_format: vk::Format,
+    /// Samples per pixel of the attachments (`TYPE_1` unless multisampled).
+    pub samples: vk::SampleCountFlags,
 }
 
 impl<'a> GraphicsPipelineDesc<'a> {
@@ -203,6 +205,7 @@ impl<'a> GraphicsPipelineDesc<'a> {
             stencil: None,
             color_targets: &[],
             depth_format: vk::Format::UNDEFINED,
+            samples: vk::SampleCountFlags::TYPE_1,
         }
     }
 }
@@ -329,8 +332,7 @@ impl GraphicsPipeline {
             .front_face(desc.front_face)
             .depth_bias_enable(d.bias)
             .line_width(desc.line_width);
-        let multisample =
-            vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let multisample = vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(desc.samples);
         let (front, back) = desc.stencil.unwrap_or((StencilFace::KEEP, StencilFace::KEEP));
         let depth_stencil = vk::PipelineDepthStencilStateCreateInfo::default()
             .depth_test_enable(d.test)

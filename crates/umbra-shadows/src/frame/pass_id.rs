@@ -8,6 +8,8 @@ use umbra_scene::LightKind;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum PassId {
+    /// The scene's meshes copied from staging into their buffers (frames after a mesh changed).
+    MeshUpload,
     /// Depth from the light into its shadow map (all techniques with a map).
     ShadowMap(usize),
     /// Sen et al. §3 pass 2: the silhouette points on the dual grid.
@@ -64,6 +66,7 @@ impl PassId {
     /// `light 1 (spot)`, `hybrid volumes 2`, `readback`).
     pub fn name(self) -> String {
         match self {
+            PassId::MeshUpload => "mesh upload".into(),
             PassId::ShadowMap(l) => format!("shadow_map {l}"),
             PassId::SilhouetteMap(l) => format!("silhouette_map {l}"),
             PassId::BlockerCulling => "blocker culling".into(),
@@ -93,7 +96,8 @@ impl PassId {
     /// The light the pass serves, if any.
     pub fn light(self) -> Option<usize> {
         match self {
-            PassId::BlockerCulling
+            PassId::MeshUpload
+            | PassId::BlockerCulling
             | PassId::Ambient
             | PassId::DepthRebuild
             | PassId::GBuffer
@@ -145,6 +149,7 @@ mod tests {
             PassId::BlockerCulling,
             PassId::Ambient,
             PassId::DepthRebuild,
+            PassId::MeshUpload,
             PassId::GBuffer,
             PassId::Readback,
             PassId::HandOff,

@@ -1,5 +1,5 @@
-//! The frame's passes, declared in order into the frame graph: first the lights' views (shadow
-//! maps, silhouette points, blocker culling), then `ambient`, the optional `g-buffer`, every
+//! The frame's passes, declared in order into the frame graph: first the mesh upload (when a
+//! mesh changed) and the lights' views (shadow maps, silhouette points, blocker culling), then `ambient`, the optional `g-buffer`, every
 //! recorded light's shadows (its technique's passes writing its visibility image, plus the
 //! diagnostics asked for), every recorded light's lighting, and `readback`. Each pass names the images it uses; the graph emits the barriers, labels and
 //! timestamps (`crate::frame`).
@@ -29,8 +29,11 @@ pub(super) struct FrameInputs<'a> {
     pub gpu: &'a GpuScene,
     pub lights: &'a [LightFrame],
     pub bindings: &'a [LightBindings<'a>],
-    /// The frame's depth (and stencil): the renderer's own, or the engine's.
+    /// The frame's depth (and stencil): the renderer's own, the engine's, or umbra's rebuilt
+    /// one for an engine's frame.
     pub depth: &'a Image,
+    /// An engine's frame whose depth umbra re-draws into `depth` before anything tests it.
+    pub rebuild: Option<&'a crate::depth_rebuild::DepthRebuild>,
     /// The frame's silhouette edges and shadow-volume vertices (none when empty).
     pub edges: Option<&'a Buffer>,
     pub volumes: Option<&'a Buffer>,
@@ -66,7 +69,8 @@ impl Renderer {
         let mut stages = Vec::new();
         let boxes = streams.blockers.filled().filter(|_| !culling.boxes.is_empty());
         if let Some(boxes) = boxes {
-            let f = FrameInputs { scene, gpu, lights, bindings, depth: &self.own()?.depth, edges, volumes };
+            let depth = &self.own()?.depth;
+            let f = FrameInputs { scene, gpu, lights, bindings, depth, rebuild: None, edges, volumes };
             let mut views = graph.stage("frame: views and blocker culling");
             self.declare_views(&mut views, f)?;
             let first = self.declare_culling(&mut views, f, &culling, boxes)?;
@@ -81,7 +85,8 @@ impl Renderer {
             stages.push(done);
         }
         self.settle_volumes(scene, lights, &culling);
-        let f = FrameInputs { scene, gpu, lights, bindings, depth: &self.own()?.depth, edges, volumes };
+        let depth = &self.own()?.depth;
+        let f = FrameInputs { scene, gpu, lights, bindings, depth, rebuild: None, edges, volumes };
         let mut stage = graph.stage("frame");
         if stages.is_empty() {
             self.declare_views(&mut stage, f)?;
@@ -109,8 +114,21 @@ impl Renderer {
         }
     }
 
-    /// The lights' views: per recorded light its shadow map and silhouette points.
+    /// The frame's first passes: the meshes' upload when they changed, an engine's depth re-drawn
+    /// where umbra rebuilds it, then the lights' views: per recorded light its shadow map and
+    /// silhouette points.
     pub(super) fn declare_views<'a>(&'a self, stage: &mut Stage<'a>, f: FrameInputs<'a>) -> RenderResult<()> {
+        if let Some(upload) = &f.gpu.upload {
+            stage.pass(PassId::MeshUpload, &[], move |cx| {
+                upload.record(cx.rec, &f.gpu.geometry);
+                Ok(())
+            });
+        }
+        if let Some(rebuild) = f.rebuild {
+            stage.pass(PassId::DepthRebuild, &[Use::Image(f.depth, Depth)], move |cx| {
+                rebuild.record(cx.rec, &self.layout, f.gpu, f.scene, cx.log)
+            });
+        }
         for light in f.lights.iter().filter(|l| l.plan.recorded) {
             let l = light.light();
             let Some(map) = &light.map else { continue };

@@ -123,8 +123,7 @@ impl Renderer {
             passes
         });
         let geometry_uploaded_bytes = gpu.geometry_uploaded;
-        self.geometry = Some(gpu.geometry);
-        self.slot.frame = Some(gpu.frame);
+        self.geometry = Some(self.slot.keep(gpu));
         let (passes, shadowed) = recorded?;
         Ok((passes, shadowed, geometry_uploaded_bytes))
     }
@@ -148,21 +147,17 @@ impl Renderer {
         let (edges, volumes) = (streams.edges.filled(), streams.volumes.filled());
         let mut stage = graph.stage("umbra shadows");
         // The engine's depth as it was handed over, or umbra's own, drawn first.
-        let (image, handed_over) = match depth {
+        let (image, handed_over, rebuild) = match depth {
             FrameDepth::Engine(d) => {
                 graph.import(d.image, d.state);
-                (d.image, Some(d))
+                (d.image, Some(d), None)
             }
             FrameDepth::Rebuilt => {
                 let rebuild = self.rebuild_ref()?;
-                let image = rebuild.made()?;
-                stage.pass(PassId::DepthRebuild, &[Use::Image(image, ImageState::DepthStencilAttachment)], move |cx| {
-                    rebuild.record(cx.rec, &self.layout, gpu, scene, cx.log)
-                });
-                (image, None)
+                (rebuild.made()?, None, Some(rebuild))
             }
         };
-        let f = super::declare::FrameInputs { scene, gpu, lights, bindings, depth: image, edges, volumes };
+        let f = super::declare::FrameInputs { scene, gpu, lights, bindings, depth: image, rebuild, edges, volumes };
         self.declare_views(&mut stage, f)?;
         let (queries, _) = self.declare_shadows(&mut stage, f)?;
         let shadowed: Vec<bool> = queries.iter().map(|q| q.shadowed).collect();

@@ -248,8 +248,7 @@ impl Renderer {
         frame.report.cpu_record_ms = (ran_ms - submit_wait_ms).max(0.0);
         frame.report.submissions = submissions as u64;
         // Kept for the next frame: its meshes, per-frame buffers and vertex streams are reused.
-        self.geometry = Some(gpu.geometry);
-        self.slot.frame = Some(gpu.frame);
+        self.geometry = Some(self.slot.keep(gpu));
         self.slot.streams = streams;
         frame.report.cpu_frame_ms = started.elapsed().as_secs_f64() * 1e3;
         frame.report.geometry_uploaded_bytes = geometry_uploaded_bytes;

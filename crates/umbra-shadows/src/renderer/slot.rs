@@ -5,9 +5,10 @@
 //! the frame graph orders each first use after all earlier work.
 
 use crate::frame::FrameGraph;
-use crate::gpu_scene::FrameBuffers;
+use crate::gpu_scene::{FrameBuffers, GpuScene, MeshUpload, SceneGeometry};
 use crate::streams::Streams;
 use crate::RenderResult;
+use std::sync::Arc;
 use umbra_vk::{Context, DescriptorArena, DescriptorSetLayout};
 
 /// One frame in flight's host-written buffers, descriptor sets and query pools.
@@ -22,6 +23,10 @@ pub(crate) struct FrameSlot {
     pub graph: FrameGraph,
     /// The passes recorded into an engine's last frame of this slot, GPU times unread.
     pub pending: Option<Vec<crate::timing::PassReport>>,
+    /// The meshes the slot's last frame drew, kept alive while the GPU may read them (a later
+    /// frame may have uploaded others), and the staging buffers its upload copied from.
+    geometry: Option<Arc<SceneGeometry>>,
+    upload: Option<MeshUpload>,
 }
 
 impl FrameSlot {
@@ -34,6 +39,17 @@ impl FrameSlot {
             sets: DescriptorArena::new(ctx, name, shadow_set_layout, 8)?,
             graph: FrameGraph::default(),
             pending: None,
+            geometry: None,
+            upload: None,
         })
+    }
+
+    /// Keeps what the frame just recorded reads from the host side until the slot's next use
+    /// (when the frame has completed); returns the meshes, for the frames after.
+    pub fn keep(&mut self, gpu: GpuScene) -> Arc<SceneGeometry> {
+        self.frame = Some(gpu.frame);
+        self.upload = gpu.upload;
+        self.geometry = Some(gpu.geometry.clone());
+        gpu.geometry
     }
 }

@@ -107,10 +107,14 @@ pub struct ShadowFrame {
     /// The passes this slot recorded the last time it was used, with their GPU times where the
     /// GPU had written them (read without waiting); `None` on the slot's first frame.
     pub earlier_passes: Option<Vec<PassReport>>,
-    /// Bytes of mesh data uploaded for this frame (0 when no mesh was added or removed).
+    /// Bytes of mesh data uploaded for this frame (0 when no mesh was added or removed),
+    /// copied from staging buffers by the frame's first pass (`mesh upload`).
     pub geometry_uploaded_bytes: u64,
     /// Vulkan memory allocations made while recording it (0 once warm).
     pub memory_allocations: u64,
+    /// Queue submissions umbra made while recording it: 0, always (a mesh upload too is
+    /// recorded into the engine's command buffer, the `mesh upload` pass).
+    pub submissions: u64,
     /// Why umbra re-drew the scene's depth into an image of its own this frame (a depth-only
     /// pass, `depth rebuild`), or `None` when its passes tested the engine's depth as it was.
     pub depth_rebuilt: Option<RebuildReason>,

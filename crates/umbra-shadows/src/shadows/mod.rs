@@ -155,7 +155,7 @@ impl Shadows {
     /// and keeps what it recorded alive until it completed. A typed error, before anything is
     /// recorded, names the input umbra cannot use.
     pub fn record(&mut self, cmd: vk::CommandBuffer, inputs: &FrameInputs<'_>) -> RenderResult<ShadowFrame> {
-        let allocations = self.ctx.memory_allocations();
+        let (allocations, submissions) = (self.ctx.memory_allocations(), self.ctx.submissions());
         let (state, proj) = self.check(inputs)?;
         let scene = &mut self.registry.scene;
         scene.lights.clear();
@@ -163,7 +163,7 @@ impl Shadows {
         scene.validate_placement()?;
         let d = inputs.depth;
         let (width, height) = (self.desc.settings.width, self.desc.settings.height);
-        let desc = ImageDesc::new_2d(d.format, width, height).usage(d.usage);
+        let desc = ImageDesc::new_2d(d.format, width, height).usage(d.usage).samples(d.samples);
         let depth = Image::external(&self.ctx, d.image, d.view, desc);
         let k = (inputs.frame_index % self.slots.len() as u64) as usize;
         let slot = &mut self.slots[k];
@@ -182,6 +182,7 @@ impl Shadows {
             earlier_passes,
             geometry_uploaded_bytes: recorded.geometry_uploaded_bytes,
             memory_allocations: self.ctx.memory_allocations() - allocations,
+            submissions: self.ctx.submissions() - submissions,
             depth_rebuilt: state.err(),
         })
     }
