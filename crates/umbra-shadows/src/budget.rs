@@ -55,14 +55,19 @@ pub(crate) fn check(needs: &[ShadowStorage], budget: u64) -> RenderResult<()> {
     Ok(())
 }
 
-/// Drops every per-light target whose light `keep` does not mark (lights beyond `keep` too).
-pub(crate) fn release_unused<T>(targets: &mut Vec<Option<T>>, keep: &[bool]) {
-    targets.truncate(keep.len());
-    for (target, &kept) in targets.iter_mut().zip(keep) {
-        if !kept {
-            *target = None;
+/// Releases every per-light target whose light `keep` does not mark (lights beyond `keep`
+/// too) into `retired`.
+pub(crate) fn release_unused<T: std::any::Any + Send>(
+    targets: &mut Vec<Option<T>>,
+    keep: &[bool],
+    retired: &mut crate::retired::Retired,
+) {
+    for (l, target) in targets.iter_mut().enumerate() {
+        if !keep.get(l).copied().unwrap_or(false) {
+            retired.take(target);
         }
     }
+    targets.truncate(keep.len());
 }
 
 #[cfg(test)]

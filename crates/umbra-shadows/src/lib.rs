@@ -26,6 +26,7 @@ pub mod plan;
 mod reach;
 mod renderer;
 mod report;
+mod retired;
 pub mod shadow_map;
 pub mod shadow_volume;
 pub mod shadows;

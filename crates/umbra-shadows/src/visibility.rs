@@ -22,6 +22,7 @@
 
 use crate::forward::{self, Bounded, PassBounds};
 use crate::gpu_scene::GpuScene;
+use crate::retired::Retired;
 use crate::shadow_map::ShadowMapSettings;
 use crate::timing::PassLog;
 use crate::{RenderError, RenderResult};
@@ -185,8 +186,8 @@ impl VisibilityPass {
 
     /// Keeps an image for every light `shadowed` marks (made where missing) and releases the
     /// others.
-    pub fn keep(&mut self, ctx: &Context, shadowed: &[bool]) -> RenderResult<()> {
-        crate::budget::release_unused(&mut self.images, shadowed);
+    pub fn keep(&mut self, ctx: &Context, shadowed: &[bool], retired: &mut Retired) -> RenderResult<()> {
+        crate::budget::release_unused(&mut self.images, shadowed, retired);
         self.images.resize_with(shadowed.len(), || None);
         for (l, (kept, &wanted)) in self.images.iter_mut().zip(shadowed).enumerate() {
             if wanted && kept.is_none() {

@@ -12,6 +12,7 @@
 
 use crate::frame::PassRecorder;
 use crate::gpu_scene::{DrawPush, GpuScene, SceneGeometry};
+use crate::retired::Retired;
 use crate::shadow_map::frustum::{LightViews, MapKind};
 use crate::RenderResult;
 use std::sync::Arc;
@@ -101,13 +102,19 @@ impl BoundsPass {
 
     /// Binds the frame's geometry (its set made again only when the geometry was uploaded
     /// again) and notes which meshes are closed.
-    pub fn bind_geometry(&mut self, ctx: &Context, gpu: &GpuScene, adjacency: &[Arc<Adjacency>]) -> RenderResult<()> {
+    pub fn bind_geometry(
+        &mut self,
+        ctx: &Context,
+        gpu: &GpuScene,
+        adjacency: &[Arc<Adjacency>],
+        retired: &mut Retired,
+    ) -> RenderResult<()> {
         self.closed.clear();
         self.closed.extend(adjacency.iter().map(|a| a.report.closed));
         if self.geometry.as_ref().is_some_and(|(g, _)| Arc::ptr_eq(g, &gpu.geometry)) {
             return Ok(());
         }
-        self.geometry = None;
+        retired.take(&mut self.geometry);
         let g = &gpu.geometry;
         let resources = [Resource::Buffer(&g.vertices), Resource::Buffer(&g.indices)];
         let set = DescriptorSet::new(ctx, "hybrid bounds geometry", &self.geometry_layout, &resources)?;
@@ -116,7 +123,14 @@ impl BoundsPass {
     }
 
     /// Makes sure light `light` has a bounds image for a `resolution` map of `kind`.
-    pub fn prepare(&mut self, ctx: &Context, light: usize, resolution: u32, kind: MapKind) -> RenderResult<()> {
+    pub fn prepare(
+        &mut self,
+        ctx: &Context,
+        light: usize,
+        resolution: u32,
+        kind: MapKind,
+        retired: &mut Retired,
+    ) -> RenderResult<()> {
         if self.targets.len() <= light {
             self.targets.resize_with(light + 1, || None);
         }
@@ -128,7 +142,7 @@ impl BoundsPass {
         if fits {
             return Ok(());
         }
-        self.targets[light] = None;
+        retired.take(&mut self.targets[light]);
         let name = format!("hybrid bounds light {light}");
         let image = Image::new(ctx, &name, desc)?;
         let layers = (0..desc.layers)
@@ -142,8 +156,8 @@ impl BoundsPass {
     }
 
     /// Frees the bounds of every light for which `keep` is false (or beyond it).
-    pub fn keep_only(&mut self, keep: &[bool]) {
-        crate::budget::release_unused(&mut self.targets, keep);
+    pub fn keep_only(&mut self, keep: &[bool], retired: &mut Retired) {
+        crate::budget::release_unused(&mut self.targets, keep, retired);
     }
 
     /// Light `light`'s bounds image, or the placeholder (set 1, binding 4 of its lighting

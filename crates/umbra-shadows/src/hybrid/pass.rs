@@ -11,6 +11,7 @@ use crate::diagnostics::ClassReadback;
 use crate::forward;
 use crate::frame::{PassRecorder, QueryId};
 use crate::gpu_scene::{DrawPush, GpuScene};
+use crate::retired::Retired;
 use crate::shadow_map::{self, ShadowMapSettings};
 use crate::shadow_volume::batches::{counting_in_batch, fold_desc, record_in_batches, CountBits, FULL_STENCIL};
 use crate::shadow_volume::build::LightVolumes;
@@ -256,13 +257,21 @@ impl HybridPass {
 
     /// Makes sure the frame-sized targets exist for a `width` × `height` frame (and the masked
     /// depth copy when some light uses `depth-bounds`).
-    pub fn prepare(&mut self, ctx: &Context, width: u32, height: u32, masked_depth: bool) -> RenderResult<()> {
+    pub fn prepare(
+        &mut self,
+        ctx: &Context,
+        width: u32,
+        height: u32,
+        masked_depth: bool,
+        retired: &mut Retired,
+    ) -> RenderResult<()> {
         let fits = self.targets.as_ref().is_some_and(|t| {
             t.classes.desc.width == width && t.classes.desc.height == height && t.masked_depth.is_some() >= masked_depth
         });
         if fits {
             return Ok(());
         }
+        retired.take(&mut self.targets);
         let (classes, masked) = target_descs(self.depth_format, width, height);
         let classes = Image::new(ctx, "hybrid silhouette classes", classes)?;
         let masked_depth = match masked_depth {

@@ -82,6 +82,7 @@ impl Renderer {
         cmd: vk::CommandBuffer,
     ) -> RenderResult<RecordedFrame> {
         // The same steps as `render` (see there), the view as the engine gave it.
+        self.slot.begin();
         let view = FrameView { view, boxes: scene.object_bounds() };
         let mut lights = self.plan(scene, &view)?;
         let adjacency = self.meshes.adjacency(scene)?;

@@ -213,7 +213,9 @@ impl Renderer {
         //    more objects or lights than the device's buffers can bind.
         scene.validate()?;
         gpu_scene::check_limits(self.ctx.capabilities(), SceneCounts::of(scene, 0))?;
-        // 2. Plan: per light, what to record and which casters enter its passes.
+        // 2. Plan: per light, what to record and which casters enter its passes (the last
+        //    frame completed: what it retired goes).
+        self.slot.begin();
         let view = self.frame_view(scene);
         let mut lights = self.plan(scene, &view)?;
         // 3. Prepare each light's technique on the CPU: map views and maps, silhouette edges,

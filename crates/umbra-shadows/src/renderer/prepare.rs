@@ -72,9 +72,9 @@ impl Renderer {
     ) -> RenderResult<Vec<Mat4>> {
         let mut fitted = self.fit_maps(scene, view, lights)?;
         let keep: Vec<bool> = fitted.iter().map(|m| m.as_ref().is_some_and(|m| m.depth)).collect();
-        self.shadow_map.keep_only(&keep);
+        self.shadow_map.keep_only(&keep, &mut self.slot.retired);
         let silhouette: Vec<bool> = fitted.iter().map(|m| m.as_ref().is_some_and(|m| m.silhouette)).collect();
-        self.silhouette_map.keep_only(&silhouette);
+        self.silhouette_map.keep_only(&silhouette, &mut self.slot.retired);
         let settings = *self.shadow_map.settings();
         let mut shadow_views = Vec::new();
         let mut edge_instances = Vec::new();
@@ -84,7 +84,7 @@ impl Renderer {
             let seen = view.seen(self.desc.height);
             let source = &scene.lights[l];
             if map.depth {
-                self.shadow_map.prepare(&self.ctx, l, resolution, views.kind)?;
+                self.shadow_map.prepare(&self.ctx, l, resolution, views.kind, &mut self.slot.retired)?;
             }
             map.shadow = GpuShadow {
                 kind: match (views.kind, map.silhouette) {
@@ -109,7 +109,7 @@ impl Renderer {
                 view_proj: views.views.clone(),
             });
             if map.silhouette {
-                self.silhouette_map.prepare(&self.ctx, l, resolution)?;
+                self.silhouette_map.prepare(&self.ctx, l, resolution, &mut self.slot.retired)?;
                 let e = edges::extract(scene, adjacency, &views.casters, source, &mut edge_instances);
                 light.plan.silhouette_map = Some(SilhouetteMapReport {
                     resolution,
@@ -301,15 +301,17 @@ impl Renderer {
     ) -> RenderResult<GpuScene> {
         if lights.iter().any(LightFrame::hybrid) {
             let masked_depth = self.mask == MaskKind::DepthBounds;
-            self.hybrid.prepare(&self.ctx, self.desc.width, self.desc.height, masked_depth)?;
+            let (width, height) = (self.desc.width, self.desc.height);
+            self.hybrid.prepare(&self.ctx, width, height, masked_depth, &mut self.slot.retired)?;
         }
         let shadowed: Vec<bool> = lights.iter().map(LightFrame::may_shadow).collect();
-        self.visibility.keep(&self.ctx, &shadowed)?;
+        self.visibility.keep(&self.ctx, &shadowed, &mut self.slot.retired)?;
         let keep: Vec<bool> = lights.iter().map(LightFrame::hybrid).collect();
-        self.hybrid.bounds.keep_only(&keep);
+        self.hybrid.bounds.keep_only(&keep, &mut self.slot.retired);
         for light in lights.iter().filter(|l| l.hybrid()) {
             if let Some(map) = &light.map {
-                self.hybrid.bounds.prepare(&self.ctx, light.light(), map.resolution, map.views.kind)?;
+                let retired = &mut self.slot.retired;
+                self.hybrid.bounds.prepare(&self.ctx, light.light(), map.resolution, map.views.kind, retired)?;
             }
         }
         let shadows: Vec<GpuShadow> =
@@ -325,7 +327,7 @@ impl Renderer {
             self.slot.frame.take(),
         )?;
         if lights.iter().any(LightFrame::hybrid) {
-            self.hybrid.bounds.bind_geometry(&self.ctx, &gpu, adjacency)?;
+            self.hybrid.bounds.bind_geometry(&self.ctx, &gpu, adjacency, &mut self.slot.retired)?;
         }
         Ok(gpu)
     }

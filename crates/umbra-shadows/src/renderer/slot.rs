@@ -6,6 +6,7 @@
 
 use crate::frame::FrameGraph;
 use crate::gpu_scene::{FrameBuffers, GpuScene, MeshUpload, SceneGeometry};
+use crate::retired::Retired;
 use crate::streams::Streams;
 use crate::RenderResult;
 use std::sync::Arc;
@@ -27,6 +28,8 @@ pub(crate) struct FrameSlot {
     /// frame may have uploaded others), and the staging buffers its upload copied from.
     geometry: Option<Arc<SceneGeometry>>,
     upload: Option<MeshUpload>,
+    /// What the slot's last frame stopped using, destroyed when the slot is used again.
+    pub retired: Retired,
 }
 
 impl FrameSlot {
@@ -41,7 +44,14 @@ impl FrameSlot {
             pending: None,
             geometry: None,
             upload: None,
+            retired: Retired::default(),
         })
+    }
+
+    /// Starts recording the slot's next frame: its last one has completed (the renderer waited
+    /// for it; an engine waited for the slot's fence), so what that frame retired goes.
+    pub fn begin(&mut self) {
+        self.retired.release();
     }
 
     /// Keeps what the frame just recorded reads from the host side until the slot's next use

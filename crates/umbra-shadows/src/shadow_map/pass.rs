@@ -4,6 +4,7 @@
 use super::frustum::{LightViews, MapKind};
 use super::settings::{ShadowFilter, ShadowMapSettings};
 use crate::gpu_scene::{self, DrawPush, GpuScene};
+use crate::retired::Retired;
 use crate::timing::PassLog;
 use crate::{RenderError, RenderResult};
 use umbra_scene::Scene;
@@ -132,7 +133,14 @@ impl ShadowMapPass {
 
     /// Makes sure light `light` has a map of `resolution` and `kind`, (re)creating it if not;
     /// a new map is checked first ([`Self::check`]), a kept one was when it was made.
-    pub fn prepare(&mut self, ctx: &Context, light: usize, resolution: u32, kind: MapKind) -> RenderResult<()> {
+    pub fn prepare(
+        &mut self,
+        ctx: &Context,
+        light: usize,
+        resolution: u32,
+        kind: MapKind,
+        retired: &mut Retired,
+    ) -> RenderResult<()> {
         if self.targets.len() <= light {
             self.targets.resize_with(light + 1, || None);
         }
@@ -143,7 +151,7 @@ impl ShadowMapPass {
             return Ok(());
         }
         self.check(ctx, light, resolution, kind)?;
-        self.targets[light] = None;
+        retired.take(&mut self.targets[light]);
         let name = format!("shadow map light {light}");
         let image = Image::new(ctx, &name, map_desc(resolution, kind))?;
         let faces = match kind {
@@ -158,8 +166,8 @@ impl ShadowMapPass {
 
     /// Frees the maps of every light for which `keep` is false (or beyond it): a frame holds
     /// only the maps it uses.
-    pub fn keep_only(&mut self, keep: &[bool]) {
-        crate::budget::release_unused(&mut self.targets, keep);
+    pub fn keep_only(&mut self, keep: &[bool], retired: &mut Retired) {
+        crate::budget::release_unused(&mut self.targets, keep, retired);
     }
 
     /// Records the depth pass of light `light` (prepared with [`ShadowMapPass::prepare`], its map

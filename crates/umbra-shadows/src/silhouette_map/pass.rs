@@ -6,6 +6,7 @@ use super::edges::{EdgeInstance, LightEdges};
 use super::geometry::DEFAULT_POINT;
 use crate::forward;
 use crate::gpu_scene::{DrawPush, GpuScene};
+use crate::retired::Retired;
 use crate::shadow_map::ShadowMapSettings;
 use crate::timing::PassLog;
 use crate::{RenderError, RenderResult};
@@ -107,7 +108,7 @@ impl SilhouetteMapPass {
 
     /// Makes sure light `light` has a `resolution`² silhouette map; a new map is checked
     /// first ([`Self::check`]), a kept one was when it was made.
-    pub fn prepare(&mut self, ctx: &Context, light: usize, resolution: u32) -> RenderResult<()> {
+    pub fn prepare(&mut self, ctx: &Context, light: usize, resolution: u32, retired: &mut Retired) -> RenderResult<()> {
         if self.targets.len() <= light {
             self.targets.resize_with(light + 1, || None);
         }
@@ -115,14 +116,14 @@ impl SilhouetteMapPass {
             return Ok(());
         }
         self.check(ctx, light, resolution)?;
-        self.targets[light] = None;
+        retired.take(&mut self.targets[light]);
         self.targets[light] = Some(Image::new(ctx, &format!("silhouette map light {light}"), map_desc(resolution))?);
         Ok(())
     }
 
     /// Frees the silhouette maps of every light for which `keep` is false (or beyond it).
-    pub fn keep_only(&mut self, keep: &[bool]) {
-        crate::budget::release_unused(&mut self.targets, keep);
+    pub fn keep_only(&mut self, keep: &[bool], retired: &mut Retired) {
+        crate::budget::release_unused(&mut self.targets, keep, retired);
     }
 
     /// Light `light`'s silhouette map (after [`Self::prepare`]), or the 1×1 placeholder.
