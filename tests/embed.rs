@@ -496,3 +496,46 @@ fn every_depth_convention_gives_the_renderers_shadows() {
         }
     });
 }
+
+/// Runs the example engine (`examples/embed`) headless on the test's device, validation on.
+fn run_example(out: &std::path::Path, extra: &[&str]) -> String {
+    let run = std::process::Command::new(common::example("embed"))
+        .args(["--frames", "3", "--size", "160x90", "--out"])
+        .arg(out)
+        .args(extra)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .env("UMBRA_VALIDATION", "1")
+        .output()
+        .expect("the example runs");
+    let output = format!("{}{}", String::from_utf8_lossy(&run.stdout), String::from_utf8_lossy(&run.stderr));
+    assert!(run.status.success(), "examples/embed {extra:?} failed:\n{output}");
+    output
+}
+
+#[test]
+fn the_example_engine_shades_with_umbras_shadows_without_umbra_submitting() {
+    let out = common::output_dir("embed-example");
+    let shadowed = run_example(&out.join("shadowed"), &[]);
+    print!("{shadowed}");
+    let frames: Vec<&str> = shadowed.lines().filter(|l| l.starts_with("frame ")).collect();
+    assert_eq!(frames.len(), 3, "{shadowed}");
+    assert!(frames.iter().all(|l| l.contains("2/2 lights shadowed") && l.contains(" 0 submissions by umbra")));
+    assert!(frames[2].contains("uploaded 0 B, 0 allocations"), "warm frame: {}", frames[2]);
+    run_example(&out.join("unshadowed"), &["--technique", "unshadowed"]);
+    let load = |dir: &str| image::open(out.join(dir).join("embed-frame-2.png")).unwrap().to_rgba8();
+    let (with, without) = (load("shadowed"), load("unshadowed"));
+    // Shadows only take light away: every differing pixel is darker with them.
+    let (mut darker, mut brighter) = (0, 0);
+    for (a, b) in with.pixels().zip(without.pixels()) {
+        let (sa, sb): (u32, u32) =
+            (a.0[..3].iter().map(|&c| u32::from(c)).sum(), b.0[..3].iter().map(|&c| u32::from(c)).sum());
+        darker += usize::from(sa < sb);
+        brighter += usize::from(sa > sb);
+    }
+    println!(
+        "the engine's shading with umbra's shadows: {darker} of {} pixels darker, {brighter} brighter",
+        with.len() / 4
+    );
+    assert!(darker > with.len() / 4 / 50, "shadows darken at least 2% of the frame");
+    assert_eq!(brighter, 0, "a shadow made a pixel brighter");
+}

@@ -1,0 +1,186 @@
+//! A minimal engine that links umbra for its shadows, written the way an engine would: its own
+//! Vulkan instance and device (`device.rs`), its own depth pre-pass, frames in flight with a
+//! command buffer and fence each, and a forward shading shader of its own (`engine.rs`,
+//! `shaders-glsl/engine/shade.*`) that multiplies each light by the visibility image umbra hands
+//! it. umbra records every light's shadows into the engine's command buffer between the two
+//! passes (`Shadows::record`, docs/embedding.md). The teapot moves around Suzanne every frame;
+//! only its transform reaches umbra.
+//!
+//! Headless: renders `--frames` frames and writes the first and the last as PNG with one line
+//! per frame (what umbra recorded, uploaded, allocated and submitted, and the GPU time of the
+//! slot's previous frame).
+//!
+//! ```text
+//! cargo run --release --example embed -- --out out/embed
+//! cargo run --release --example embed -- --technique shadow_volume --frames 48
+//! ```
+
+mod device;
+mod engine;
+
+use clap::Parser;
+use device::EngineDevice;
+use engine::Engine;
+use glam::Mat4;
+use std::path::PathBuf;
+use umbra::scene::{Scene, Technique};
+use umbra::shadows::{FrameInputs, Instance, InstanceId, RendererDesc, ShadowFrame, Shadows, ShadowsDesc};
+
+#[derive(Parser, Debug)]
+#[command(about = "A minimal engine recording umbra's shadows into its own frames")]
+struct Args {
+    /// The scene: a .toml scene file or a .glb/.gltf path.
+    #[arg(long, default_value = "examples/scenes/embed.toml")]
+    scene: String,
+    /// Use this technique for every light (unshadowed, shadow_map, shadow_volume,
+    /// silhouette_map, hybrid, auto); default: the scene's.
+    #[arg(long, value_parser = parse_technique)]
+    technique: Option<Technique>,
+    /// Frames rendered (1 to 10000); the last object turns once around the scene's axis every
+    /// 48 frames.
+    #[arg(long, default_value_t = 12, value_parser = clap::value_parser!(u64).range(1..=10_000))]
+    frames: u64,
+    /// Frames in flight (1 to 4).
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(1..=4))]
+    frames_in_flight: u32,
+    /// Frame size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "960x540", value_parser = parse_size)]
+    size: (u32, u32),
+    /// Output folder (created if missing).
+    #[arg(long, default_value = "out/embed")]
+    out: PathBuf,
+}
+
+fn parse_technique(s: &str) -> Result<Technique, String> {
+    Technique::from_name(s).ok_or_else(|| format!("{s:?}: not a technique"))
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s.split_once('x').ok_or_else(|| format!("{s:?}: expected WIDTHxHEIGHT"))?;
+    let parse = |v: &str| v.parse::<u32>().ok().filter(|v| (1..=8192).contains(v));
+    match (parse(w), parse(h)) {
+        (Some(w), Some(h)) => Ok((w, h)),
+        _ => Err(format!("{s:?}: width and height from 1 to 8192")),
+    }
+}
+
+fn main() -> anyhow::Result<()> {
+    let args = Args::parse();
+    let mut scene = umbra::scene::load(&args.scene)?;
+    if let Some(t) = args.technique {
+        scene.lights.iter_mut().for_each(|l| l.technique = t);
+    }
+    anyhow::ensure!(!scene.objects.is_empty(), "{}: no objects", args.scene);
+    std::fs::create_dir_all(&args.out)?;
+    let device = EngineDevice::new(args.frames_in_flight)?;
+    let ctx = device.umbra_context()?;
+    let (width, height) = args.size;
+    let mut engine = Engine::new(&ctx, &scene, width, height, args.frames_in_flight as usize)?;
+    let desc = ShadowsDesc {
+        settings: RendererDesc::new(width, height),
+        depth_format: engine.depth_format(),
+        frames_in_flight: args.frames_in_flight,
+    };
+    let mut shadows = Shadows::new(&ctx, desc)?;
+    let ids = register(&mut shadows, &scene)?;
+    println!(
+        "engine on {}: {} objects, {} lights, {width}x{height}",
+        ctx.capabilities().device_name,
+        scene.objects.len(),
+        scene.lights.len()
+    );
+    let (moving, start) = (scene.objects.len() - 1, scene.objects[scene.objects.len() - 1].transform);
+    for frame in 0..args.frames {
+        let angle = frame as f32 * std::f32::consts::TAU / 48.0;
+        scene.objects[moving].transform = Mat4::from_rotation_y(angle) * start;
+        shadows.set_transform(ids[moving], scene.objects[moving].transform)?;
+        let slot = (frame % u64::from(args.frames_in_flight)) as usize;
+        let last = frame + 1 == args.frames;
+        let recorded = record_frame(&device, &ctx, &mut engine, &mut shadows, &scene, frame, slot, last)?;
+        println!("{}", summary(frame, &recorded));
+        if frame == 0 || last {
+            device.wait_all()?;
+            let path = args.out.join(format!("embed-frame-{frame}.png"));
+            image::save_buffer(&path, &engine.pixels()?, width, height, image::ColorType::Rgba8)?;
+            println!("wrote {}", path.display());
+        }
+    }
+    device.wait_all()?;
+    drop(shadows);
+    drop(engine);
+    drop(ctx);
+    let messages = device::MESSAGES.load(std::sync::atomic::Ordering::Relaxed);
+    anyhow::ensure!(messages == 0, "{messages} validation messages");
+    Ok(())
+}
+
+/// Registers every mesh and object of `scene` with umbra.
+fn register(shadows: &mut Shadows, scene: &Scene) -> anyhow::Result<Vec<InstanceId>> {
+    let meshes = scene.meshes.iter().map(|m| shadows.add_mesh(m.clone())).collect::<Result<Vec<_>, _>>()?;
+    let mut ids = Vec::new();
+    for o in &scene.objects {
+        let instance = Instance {
+            mesh: meshes[o.mesh],
+            transform: o.transform,
+            casts_shadows: o.casts_shadows,
+            receives_shadows: o.receives_shadows,
+        };
+        ids.push(shadows.add_instance(instance)?);
+    }
+    Ok(ids)
+}
+
+/// One engine frame in slot `slot`: depth pre-pass, umbra's shadows, shading (and, on the
+/// `last` frame, the copy out), submitted with the slot's fence.
+#[allow(clippy::too_many_arguments)]
+fn record_frame(
+    device: &EngineDevice,
+    ctx: &umbra::vk::Context,
+    engine: &mut Engine,
+    shadows: &mut Shadows,
+    scene: &Scene,
+    frame: u64,
+    slot: usize,
+    copy_out: bool,
+) -> anyhow::Result<ShadowFrame> {
+    let cmd = device.begin_frame(slot)?;
+    let aspect = engine.width as f32 / engine.height as f32;
+    let (view, proj) = (scene.camera.view(), scene.camera.projection(aspect));
+    let inputs = FrameInputs { depth: engine.depth_target(), view, proj, lights: &scene.lights, frame_index: frame };
+    {
+        let mut rec = ctx.record_into(cmd);
+        engine.depth_prepass(&mut rec, slot, scene)?;
+    }
+    let recorded = shadows.record(cmd, &inputs)?;
+    // Host writes before the submission: the pre-pass recorded above reads them too.
+    engine.write_frame(slot, scene, proj * view, &recorded.lights)?;
+    {
+        let mut rec = ctx.record_into(cmd);
+        engine.shade(&mut rec, slot, scene)?;
+        if copy_out {
+            engine.copy_out(&mut rec);
+        }
+    }
+    device.submit_frame(slot)?;
+    Ok(recorded)
+}
+
+/// One line about what umbra did in a frame.
+fn summary(frame: u64, f: &ShadowFrame) -> String {
+    let shadowed = f.lights.iter().filter(|l| l.visibility.is_some()).count();
+    let earlier = f.earlier_passes.as_ref().map_or("-".to_string(), |p| {
+        let ms: f64 = p.iter().filter_map(|p| p.gpu_ms).sum();
+        format!("{ms:.3} ms over {} passes", p.len())
+    });
+    let rebuilt = f.depth_rebuilt.map_or(String::new(), |r| format!(", depth rebuilt: {r}"));
+    let techniques: Vec<String> = f.lights.iter().map(|l| format!("{:?}", l.plan.technique)).collect();
+    format!(
+        "frame {frame} (slot {}): {shadowed}/{} lights shadowed [{}], uploaded {} B, {} allocations, {} submissions by umbra, slot's previous frame on the GPU: {earlier}{rebuilt}",
+        f.slot,
+        f.lights.len(),
+        techniques.join(", "),
+        f.geometry_uploaded_bytes,
+        f.memory_allocations,
+        f.submissions,
+    )
+}
