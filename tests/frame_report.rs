@@ -57,3 +57,28 @@ fn every_pass_has_a_positive_gpu_time_and_the_selected_device() {
         assert_eq!(json["scene"]["name"], "cubes");
     });
 }
+
+#[test]
+fn a_frame_kept_on_the_gpu_is_the_frame_read_back() {
+    common::with_context(|ctx| {
+        let scene = umbra::scene::load("cubes").unwrap();
+        let mut desc = RendererDesc::new(common::SIZE.0, common::SIZE.1);
+        let read = Renderer::new(ctx, desc).unwrap().render(&scene).unwrap();
+        desc.read_color = false;
+        let mut kept = Renderer::new(ctx, desc).unwrap();
+        let frame = kept.render(&scene).unwrap();
+        assert!(frame.rgba.is_empty(), "read_color off: nothing read back");
+        let names = |f: &umbra::shadows::Frame| f.report.passes.iter().map(|p| p.name.clone()).collect::<Vec<_>>();
+        assert_eq!(names(&frame), names(&read), "the same passes");
+        // The engine's own copy of the colour target, left in TRANSFER_SRC_OPTIMAL.
+        let image = kept.color_image().unwrap();
+        let size = u64::from(4 * common::SIZE.0 * common::SIZE.1);
+        let out = umbra::vk::Buffer::new(ctx, "test readback", umbra::vk::BufferDesc::readback(size)).unwrap();
+        let mut rec = ctx.begin_commands("copy the kept frame").unwrap();
+        rec.copy_image_to_buffer(image, 0, &out);
+        rec.transfer_to_host(&[&out]);
+        ctx.submit_and_wait(rec).unwrap();
+        assert!(out.read().unwrap() == read.rgba, "the kept image differs from the read-back frame");
+        println!("read_color off: the colour target on the GPU equals the read-back frame ({} bytes)", read.rgba.len());
+    });
+}

@@ -53,6 +53,11 @@ pub struct CommonArgs {
     /// Present without waiting for vertical blank (mailbox or immediate, where offered).
     #[arg(long, requires = "window")]
     pub no_vsync: bool,
+    /// Present every frame through a CPU readback (the frame read back, then copied into the
+    /// swapchain from a staging buffer) instead of blitting the renderer's image on the GPU:
+    /// for comparing the CPU time per frame (docs/window.md).
+    #[arg(long, requires = "window")]
+    pub present_readback: bool,
     /// Also score every shadowed light against the exact reference (a shadow ray cast on the
     /// CPU from each pixel of the frame's G-buffer) and print its wrong pixels (headless only).
     #[arg(long, conflicts_with = "window")]

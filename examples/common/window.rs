@@ -129,9 +129,10 @@ struct Viewer {
     args: CommonArgs,
     name: &'static str,
     window: Arc<Window>,
-    // Field order: the renderer and swapchain go before the context.
-    renderer: Renderer,
+    // Field order: the swapchain (whose drop waits for its last copy out of the renderer's
+    // image), then the renderer, before the context.
     swapchain: Swapchain,
+    renderer: Renderer,
     ctx: Context,
     /// The example's renderer settings; the window's size and keys adjust a copy.
     base_desc: RendererDesc,
@@ -158,6 +159,26 @@ struct Viewer {
     title_frames: u64,
     started: Instant,
     holding_until: Option<Instant>,
+    /// CPU time of every frame (render and present), for the summary.
+    cpu: CpuTimes,
+}
+
+/// Milliseconds spent per frame, summed over the run: wall time of rendering and presenting,
+/// and the main thread's own CPU time (with a CPU driver, the wall time is mostly the driver's
+/// threads doing the GPU's work; the thread's CPU time is what the viewer itself costs).
+#[derive(Default)]
+struct CpuTimes {
+    frames: u64,
+    render_ms: f64,
+    present_ms: f64,
+    /// `None` where the thread's CPU time cannot be read (`/proc/thread-self/schedstat`).
+    thread_ms: Option<f64>,
+}
+
+/// Nanoseconds the calling thread has run on a CPU (Linux), or `None`.
+fn thread_cpu_ns() -> Option<u64> {
+    let stat = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    stat.split_whitespace().next()?.parse().ok()
 }
 
 impl Viewer {
@@ -183,6 +204,8 @@ impl Viewer {
         let swapchain = Swapchain::new(&ctx, Arc::clone(&window), swapchain_desc)?;
         let mut current = desc;
         (current.width, current.height) = (size.width.max(1), size.height.max(1));
+        // The plain image view from the GPU (`gpu_present`), unless told otherwise.
+        current.read_color = args.present_readback || !swapchain.can_present_images() || !swapchain.can_capture();
         let renderer = Renderer::new(&ctx, current)?;
         if let Ok(RawWindowHandle::Xlib(h)) = window.window_handle().map(|h| h.as_raw()) {
             println!("window id 0x{:x}", h.window);
@@ -224,6 +247,7 @@ impl Viewer {
             title_frames: 0,
             started: Instant::now(),
             holding_until: None,
+            cpu: CpuTimes::default(),
         })
     }
 
@@ -240,12 +264,13 @@ impl Viewer {
             self.swapchain.resize(size.width, size.height);
             self.rebuild = true;
         }
-        if self.rebuild {
+        if self.rebuild || self.desc.read_color == self.gpu_present() {
             self.rebuild_renderer(size)?;
         }
         self.apply_held_keys();
         let time = animate::frame_time(self.animation_frame);
         self.update_scene(time);
+        let (rendering, thread_before) = (Instant::now(), thread_cpu_ns());
         let frame = match self.renderer.render(&self.scene) {
             Ok(f) => f,
             Err(e @ RenderError::UnsupportedLight { .. }) => {
@@ -258,12 +283,27 @@ impl Viewer {
         };
         let last = self.args.frames == Some(self.frames + 1);
         let wanted = (last && self.args.screenshot.is_some()) || self.screenshot_now;
-        let (pixels, note) = views::pixels(self.settings.view, &frame, self.selected, &mut self.scratch);
-        // Read back from the swapchain image; where the surface forbids that, the pixels copied
-        // into it (the same bytes) stand in.
-        let capture = wanted && self.swapchain.can_capture();
-        let copied = (wanted && !capture).then(|| pixels.to_vec());
-        let presented = self.swapchain.present(pixels, frame.width, frame.height, capture)?;
+        let presenting = Instant::now();
+        let (presented, copied, note) = match self.desc.read_color {
+            // The renderer's image, blitted on the GPU: nothing read back.
+            false => (self.swapchain.present_image(self.renderer.color_image()?, wanted)?, None, None),
+            true => {
+                let (pixels, note) = views::pixels(self.settings.view, &frame, self.selected, &mut self.scratch);
+                // Read back from the swapchain image; where the surface forbids that, the pixels
+                // copied into it (the same bytes) stand in.
+                let capture = wanted && self.swapchain.can_capture();
+                let copied = (wanted && !capture).then(|| pixels.to_vec());
+                (self.swapchain.present(pixels, frame.width, frame.height, capture)?, copied, note)
+            }
+        };
+        self.cpu.frames += 1;
+        self.cpu.render_ms += (presenting - rendering).as_secs_f64() * 1e3;
+        self.cpu.present_ms += presenting.elapsed().as_secs_f64() * 1e3;
+        self.cpu.thread_ms = match (thread_before, thread_cpu_ns(), self.cpu.thread_ms) {
+            (Some(a), Some(b), Some(sum)) if self.cpu.frames > 1 => Some(sum + (b - a) as f64 / 1e6),
+            (Some(a), Some(b), _) if self.cpu.frames == 1 => Some((b - a) as f64 / 1e6),
+            _ => None,
+        };
         let shot = match (presented.and_then(|p| p.capture.map(|c| (c, p.extent))), copied) {
             (Some((c, extent)), _) => Some((c, extent.width, extent.height)),
             (None, Some(c)) => Some((c, frame.width, frame.height)),
@@ -423,9 +463,19 @@ impl Viewer {
         self.scene.fit_near_plane();
     }
 
+    /// Whether frames go to the window straight from the GPU: the plain image view, unless
+    /// `--present-readback`, where the swapchain can blit it (and capture screenshots).
+    fn gpu_present(&self) -> bool {
+        !self.args.present_readback
+            && self.settings.view == View::Image
+            && self.swapchain.can_present_images()
+            && self.swapchain.can_capture()
+    }
+
     /// A renderer for the window's size and the keys' settings.
     fn rebuild_renderer(&mut self, size: PhysicalSize<u32>) -> anyhow::Result<()> {
         let mut desc = self.base_desc;
+        desc.read_color = !self.gpu_present();
         (desc.width, desc.height) = (size.width, size.height);
         if let Some(resolution) = MAP_SIZES[self.settings.map_size] {
             desc.shadow_map.resolution = Some(resolution);
@@ -437,6 +487,8 @@ impl Viewer {
         desc.diagnostics |= self.settings.view.needs_diagnostics();
         desc.shadow_volume.overdraw |= self.settings.view.needs_overdraw();
         if desc != self.desc {
+            // The swapchain may still be copying the old renderer's image.
+            self.swapchain.wait()?;
             self.renderer = Renderer::new(&self.ctx, desc)?;
             self.desc = desc;
         }
@@ -486,15 +538,21 @@ impl Viewer {
 
     fn summary(&self) -> String {
         let secs = self.started.elapsed().as_secs_f64();
+        let n = self.cpu.frames.max(1) as f64;
+        let how = if self.desc.read_color { "through a CPU readback" } else { "from the GPU" };
+        let thread = self.cpu.thread_ms.map_or(String::new(), |ms| format!(", main thread on a CPU {:.2}", ms / n));
         format!(
             "presented {} frames in {secs:.1} s ({:.1} fps), {} swapchain recreation(s), {} presentation buffer(s) \
-             allocated, last size {}x{}",
+             allocated, last size {}x{}; per frame {:.2} ms (render {:.2} + present {:.2}{thread}), presented {how}",
             self.frames,
             self.frames as f64 / secs.max(1e-6),
             self.swapchain.recreations(),
             self.swapchain.buffers_created(),
             self.desc.width,
-            self.desc.height
+            self.desc.height,
+            (self.cpu.render_ms + self.cpu.present_ms) / n,
+            self.cpu.render_ms / n,
+            self.cpu.present_ms / n,
         )
     }
 }

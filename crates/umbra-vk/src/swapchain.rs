@@ -3,13 +3,16 @@
 //!
 //! Each frame slot owns a command buffer, a fence, an "image acquired" semaphore and a
 //! persistently mapped staging buffer; each swapchain image owns a "copied" semaphore that its
-//! present waits on. Presenting a frame writes the pixels into the slot's staging buffer,
-//! copies them into the acquired image and presents it: nothing is allocated per frame (the
-//! staging buffers follow the swapchain's size, so only a resize reallocates them).
+//! present waits on. A frame comes either from the GPU ([`Swapchain::present_image`]: an image
+//! blitted into the acquired one, nothing crossing the CPU) or from the CPU
+//! ([`Swapchain::present`]: pixels written into the slot's staging buffer and copied): nothing
+//! is allocated per frame (the staging buffers follow the swapchain's size, so only a resize
+//! reallocates them).
 
 use crate::buffer::{Buffer, BufferDesc};
 use crate::context::Context;
 use crate::error::{CallContext, VkError, VkResult};
+use crate::image::Image;
 use crate::surface::Surface;
 use ash::vk;
 use raw_window_handle::{HasDisplayHandle, HasWindowHandle};
@@ -55,6 +58,15 @@ pub struct Presented {
     pub recreated: bool,
     /// With `capture`: the presented image read back, tightly packed RGBA8, top row first.
     pub capture: Option<Vec<u8>>,
+}
+
+/// Where a presented frame's pixels come from.
+#[derive(Clone, Copy)]
+enum Source<'a> {
+    /// The slot's staging buffer, filled on the CPU ([`Swapchain::present`]).
+    Staging,
+    /// An image on the GPU, in `TRANSFER_SRC_OPTIMAL` ([`Swapchain::present_image`]).
+    Image(&'a Image),
 }
 
 /// One frame in flight.
@@ -200,13 +212,86 @@ impl Swapchain {
         if capture {
             self.ensure_capture_buffer()?;
         }
-        self.record_copy(slot, image, capture)?;
+        self.record_copy(slot, image, Source::Staging, capture)?;
         self.submit_and_present(slot, image)?;
         let capture = match capture {
             true => Some(self.read_capture(slot)?),
             false => None,
         };
         Ok(Some(Presented { image, extent: self.extent, recreated, capture }))
+    }
+
+    /// Whether [`Swapchain::present_image`] can show images: the swapchain's format is 8-bit
+    /// UNORM (a blit then moves bytes unchanged, as [`Swapchain::present`] does) and the
+    /// device blits into it.
+    pub fn can_present_images(&self) -> bool {
+        let unorm = matches!(self.format.format, vk::Format::B8G8R8A8_UNORM | vk::Format::R8G8B8A8_UNORM);
+        unorm && self.blits(self.format.format, vk::FormatFeatureFlags::BLIT_DST)
+    }
+
+    /// Presents `image` straight from the GPU: an `R8G8B8A8_UNORM` or `B8G8R8A8_UNORM` image
+    /// with `TRANSFER_SRC` usage, in `TRANSFER_SRC_OPTIMAL`, whose writes were made visible to
+    /// transfers by earlier submissions on the queue (umbra's `Renderer` leaves its colour
+    /// target so: `Renderer::color_image`). It is blitted into the
+    /// acquired image (top-left, over black where the sizes differ, like [`Swapchain::present`]),
+    /// which is presented; nothing is read back or written by the CPU. The image must stay
+    /// alive and unwritten until the copy completed: later submissions on the same queue that
+    /// first wait for all earlier commands (umbra's frame graph does) may write it;
+    /// [`Swapchain::wait`] before destroying it. With `capture` as in [`Swapchain::present`].
+    pub fn present_image(&mut self, image: &Image, capture: bool) -> VkResult<Option<Presented>> {
+        let f = image.desc.format;
+        if !matches!(f, vk::Format::R8G8B8A8_UNORM | vk::Format::B8G8R8A8_UNORM)
+            || !image.desc.usage.contains(vk::ImageUsageFlags::TRANSFER_SRC)
+            || image.desc.layers != 1
+            || image.desc.samples != vk::SampleCountFlags::TYPE_1
+        {
+            return Err(VkError::InvalidDesc {
+                what: "presented image",
+                why: format!(
+                    "{f:?} {:?}: an R8G8B8A8_UNORM or B8G8R8A8_UNORM single-sampled 2D image with TRANSFER_SRC usage",
+                    image.desc.usage
+                ),
+            });
+        }
+        if !self.can_present_images() || !self.blits(f, vk::FormatFeatureFlags::BLIT_SRC) {
+            return Err(self
+                .ctx
+                .unsupported(format!("blitting {f:?} images into a {:?} swapchain", self.format.format)));
+        }
+        if capture && !self.capturable {
+            return Err(self.ctx.unsupported("reading back swapchain images (no TRANSFER_SRC usage)"));
+        }
+        let before = self.recreations;
+        let Some(index) = self.acquire()? else { return Ok(None) };
+        let recreated = self.recreations != before;
+        let slot = self.next;
+        self.next = (self.next + 1) % self.slots.len();
+        if capture {
+            self.ensure_capture_buffer()?;
+        }
+        self.record_copy(slot, index, Source::Image(image), capture)?;
+        self.submit_and_present(slot, index)?;
+        let capture = match capture {
+            true => Some(self.read_capture(slot)?),
+            false => None,
+        };
+        Ok(Some(Presented { image: index, extent: self.extent, recreated, capture }))
+    }
+
+    /// Waits until every frame handed to the swapchain has been copied out of its source.
+    pub fn wait(&self) -> VkResult<()> {
+        let fences: Vec<vk::Fence> = self.slots.iter().map(|s| s.fence).collect();
+        // SAFETY: waiting on the swapchain's own fences.
+        unsafe { self.ctx.inner.device.wait_for_fences(&fences, true, TIMEOUT_NS) }.call("vkWaitForFences")
+    }
+
+    /// Whether the device supports `feature` for optimal-tiling images of `format`.
+    fn blits(&self, format: vk::Format, feature: vk::FormatFeatureFlags) -> bool {
+        // SAFETY: plain query of the context's physical device.
+        let props = unsafe {
+            self.ctx.inner.instance.get_physical_device_format_properties(self.ctx.inner.physical_device, format)
+        };
+        props.optimal_tiling_features.contains(feature)
     }
 
     /// Acquires the next image into the current slot, recreating the swapchain when needed.
@@ -276,12 +361,11 @@ impl Swapchain {
         Ok(())
     }
 
-    /// Records staging → image, and with `capture` image → capture buffer, ending in
+    /// Records `source` → image, and with `capture` image → capture buffer, ending in
     /// `PRESENT_SRC`.
-    fn record_copy(&self, slot: usize, image: u32, capture: bool) -> VkResult<()> {
+    fn record_copy(&self, slot: usize, image: u32, source: Source<'_>, capture: bool) -> VkResult<()> {
         let device = &self.ctx.inner.device;
         let s = &self.slots[slot];
-        let staging = s.staging.as_ref().ok_or(VkError::Poisoned)?;
         let target = self.images[image as usize];
         let range =
             vk::ImageSubresourceRange::default().aspect_mask(vk::ImageAspectFlags::COLOR).level_count(1).layer_count(1);
@@ -296,7 +380,8 @@ impl Swapchain {
                 .dst_stage_mask(dst.0)
                 .dst_access_mask(dst.1)
         };
-        let copy_write = (vk::PipelineStageFlags2::COPY, vk::AccessFlags2::TRANSFER_WRITE);
+        // Copies, blits and clears all write in ALL_TRANSFER.
+        let copy_write = (vk::PipelineStageFlags2::ALL_TRANSFER, vk::AccessFlags2::TRANSFER_WRITE);
         let copy_read = (vk::PipelineStageFlags2::COPY, vk::AccessFlags2::TRANSFER_READ);
         let presented = (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE);
         let layers = vk::ImageSubresourceLayers::default().aspect_mask(vk::ImageAspectFlags::COLOR).layer_count(1);
@@ -315,17 +400,41 @@ impl Swapchain {
             if let Some(d) = self.ctx.debug_device() {
                 d.cmd_begin_debug_utils_label(s.cmd, &vk::DebugUtilsLabelEXT::default().label_name(&label));
             }
-            // The acquire semaphore is waited on at COPY, which this barrier's source scope joins.
+            // The acquire semaphore is waited on at ALL_TRANSFER, which this barrier's source
+            // scope joins.
             let to_dst = barrier(
                 vk::ImageLayout::UNDEFINED,
                 vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                (vk::PipelineStageFlags2::COPY, vk::AccessFlags2::NONE),
+                (vk::PipelineStageFlags2::ALL_TRANSFER, vk::AccessFlags2::NONE),
                 copy_write,
             );
             let deps = [to_dst];
             device.cmd_pipeline_barrier2(s.cmd, &vk::DependencyInfo::default().image_memory_barriers(&deps));
             let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
-            device.cmd_copy_buffer_to_image(s.cmd, staging.raw, target, dst, &region);
+            match source {
+                Source::Staging => {
+                    let staging = s.staging.as_ref().ok_or(VkError::Poisoned)?;
+                    device.cmd_copy_buffer_to_image(s.cmd, staging.raw, target, dst, &region);
+                }
+                Source::Image(src) => {
+                    let (w, h) = (src.desc.width.min(self.extent.width), src.desc.height.min(self.extent.height));
+                    if (w, h) != (self.extent.width, self.extent.height) {
+                        let black = vk::ClearColorValue { float32: [0.0, 0.0, 0.0, 1.0] };
+                        device.cmd_clear_color_image(s.cmd, target, dst, &black, &[range]);
+                        let deps = [barrier(dst, dst, copy_write, copy_write)];
+                        device
+                            .cmd_pipeline_barrier2(s.cmd, &vk::DependencyInfo::default().image_memory_barriers(&deps));
+                    }
+                    let corner = [vk::Offset3D::default(), vk::Offset3D { x: w as i32, y: h as i32, z: 1 }];
+                    let blit = [vk::ImageBlit::default()
+                        .src_subresource(layers)
+                        .src_offsets(corner)
+                        .dst_subresource(layers)
+                        .dst_offsets(corner)];
+                    let src_layout = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+                    device.cmd_blit_image(s.cmd, src.raw, src_layout, target, dst, &blit, vk::Filter::NEAREST);
+                }
+            }
             let last = match (&self.capture, capture) {
                 (Some(out), true) => {
                     let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
@@ -350,8 +459,9 @@ impl Swapchain {
         let device = &self.ctx.inner.device;
         let s = &self.slots[slot];
         let copied = self.copied[image as usize];
-        let waits =
-            [vk::SemaphoreSubmitInfo::default().semaphore(s.acquired).stage_mask(vk::PipelineStageFlags2::COPY)];
+        let waits = [vk::SemaphoreSubmitInfo::default()
+            .semaphore(s.acquired)
+            .stage_mask(vk::PipelineStageFlags2::ALL_TRANSFER)];
         let signals =
             [vk::SemaphoreSubmitInfo::default().semaphore(copied).stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)];
         let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(s.cmd)];

@@ -522,17 +522,25 @@ impl Renderer {
         });
     }
 
-    /// `readback`: the colour target (and the overdraw image, when drawn) copied out.
+    /// `readback`: the colour target (with `read_color`) and the overdraw image (when drawn)
+    /// copied out; the colour target is left ready for transfers either way
+    /// ([`Renderer::color_image`]).
     fn declare_readback<'a>(&'a self, stage: &mut Stage<'a>, overdraw: bool) -> RenderResult<()> {
         let src = ImageState::TransferSrc;
         let own = self.own()?;
-        let mut uses = vec![Use::Image(&own.color, src), Use::Readback(&own.readback)];
+        let read_color = self.desc.read_color;
+        let mut uses = vec![Use::Image(&own.color, src)];
+        if read_color {
+            uses.push(Use::Readback(&own.readback));
+        }
         let overdraw = self.overdraw.as_ref().filter(|_| overdraw);
         if let Some((image, readback)) = overdraw {
             uses.extend([Use::Image(image, src), Use::Readback(readback)]);
         }
         stage.pass(PassId::Readback, &uses, move |cx| {
-            cx.rec.copy_image_to_buffer(&own.color, 0, &own.readback);
+            if read_color {
+                cx.rec.copy_image_to_buffer(&own.color, 0, &own.readback);
+            }
             if let Some((image, readback)) = overdraw {
                 cx.rec.copy_image_to_buffer(image, 0, readback);
             }

@@ -44,6 +44,10 @@ pub struct RendererDesc {
     /// technique decided per pixel, the input of the accuracy measurements. One copy per
     /// light (8 bytes a pixel), reported as a diagnostic pass. Off by default.
     pub read_visibility: bool,
+    /// Read the colour target back into [`Frame::rgba`]. On by default; off, the frame's
+    /// pixels stay on the GPU ([`Renderer::color_image`], to present with
+    /// `umbra_vk::Swapchain::present_image`) and `rgba` is empty.
+    pub read_color: bool,
     /// Plan each frame so that nothing that cannot change the image is recorded (lights out of
     /// view, casters whose shadows cannot be seen, scissor and depth bounds of bounded lights;
     /// see [`crate::plan`]). On by default; off records every pass of every light over every
@@ -70,6 +74,7 @@ impl RendererDesc {
             diagnostics: false,
             gbuffer: false,
             read_visibility: false,
+            read_color: true,
             cull: true,
             shadow_map_budget_bytes: DEFAULT_SHADOW_MAP_BUDGET,
         }
@@ -83,7 +88,8 @@ pub struct Frame {
     pub width: u32,
     /// Height in pixels.
     pub height: u32,
-    /// Tightly packed RGBA8, `width * height * 4` bytes.
+    /// Tightly packed RGBA8, `width * height * 4` bytes; empty without
+    /// [`RendererDesc::read_color`].
     pub rgba: Vec<u8>,
     /// What the frame did.
     pub report: FrameReport,

@@ -231,7 +231,7 @@ impl Renderer {
         // 5. Declare the passes and run them: one submission, two with blocker culling. The
         //    readback is poisoned first so that a copy that never happened cannot pass for a frame.
         self.own()?;
-        if let Some(own) = self.own.as_mut() {
+        if let (Some(own), true) = (self.own.as_mut(), self.desc.read_color) {
             own.readback.write(0, &vec![0xCD; own.readback.desc.size as usize])?;
         }
         let prepared = started.elapsed();
@@ -278,6 +278,14 @@ impl OwnTargets {
 
 impl Renderer {
     /// Its own targets; an error recording into an engine's frame, which has none.
+    /// The colour target of the last frame [`Renderer::render`] drew, in
+    /// `TRANSFER_SRC_OPTIMAL` with its writes visible to transfers of later submissions (to
+    /// present it without reading it back: `umbra_vk::Swapchain::present_image`). The next
+    /// `render` writes it again after waiting for every earlier command on the queue.
+    pub fn color_image(&self) -> RenderResult<&Image> {
+        Ok(&self.own()?.color)
+    }
+
     fn own(&self) -> RenderResult<&OwnTargets> {
         self.own.as_ref().ok_or_else(|| crate::RenderError::InvalidInput {
             field: "Renderer::render".into(),

@@ -27,7 +27,10 @@ impl Renderer {
         run: FrameRun,
     ) -> RenderResult<Frame> {
         let bindings = self.bindings(sets);
-        let rgba = self.own()?.readback.read()?;
+        let rgba = match self.desc.read_color {
+            true => self.own()?.readback.read()?,
+            false => Vec::new(),
+        };
         let overdraw = match (&self.overdraw, run.overdraw) {
             (Some((_, readback)), true) => Some(readback.read()?),
             _ => None,
