@@ -1,4 +1,4 @@
-//! Every example's `--window` under Xvfb: 60 presented frames with one resize mid-run, a clean
+//! Every example's `--window` under Xvfb (the example engine's too: `embed_window`): 60 presented frames with one resize mid-run, a clean
 //! exit with zero validation messages, a `--screenshot` equal to the headless render of the
 //! same frame, and an X screenshot taken from outside the process (`xwd`) equal to it too.
 //!
@@ -21,6 +21,30 @@ use std::time::{Duration, Instant};
 const FRAMES: u64 = 60;
 const START: (u32, u32) = (256, 192);
 const RESIZED: (u32, u32) = (320, 240);
+
+/// The example engine (`examples/embed`) in a window: its own device and swapchain, umbra's
+/// shadows recorded into its frames, each frame blitted into the swapchain on the GPU.
+#[test]
+fn embed_window() {
+    let x = Xvfb::start();
+    let out = Command::new(common::example("embed"))
+        .args(["--window", "--frames", "20", "--size", "256x192"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .env("DISPLAY", &x.display)
+        .env("UMBRA_VALIDATION", "1")
+        .env("RUST_BACKTRACE", "0")
+        .output()
+        .expect("start the example");
+    let (stdout, stderr) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    if !out.status.success() && skipped_on_swiftshader("embed", &stderr) {
+        return;
+    }
+    assert!(out.status.success(), "embed --window failed\nstdout:\n{stdout}\nstderr:\n{stderr}");
+    print!("{stdout}");
+    assert!(stdout.contains("presented 20 frames") && stdout.contains("from the GPU"), "{stdout}");
+    assert!(stdout.contains("validation messages: 0"), "{stdout}\n{stderr}");
+    assert!(stdout.contains(" 0 submissions by umbra"), "{stdout}");
+}
 
 #[test]
 fn render_window() {

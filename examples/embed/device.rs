@@ -6,7 +6,7 @@
 //!
 //! The `unsafe` here is the engine's side of the contract, not umbra's.
 
-use std::ffi::c_void;
+use std::ffi::{c_void, CStr};
 use std::sync::atomic::{AtomicU64, Ordering};
 use umbra::vk::{ash, selection, vk, Context, ExternalDevice};
 
@@ -38,6 +38,9 @@ pub struct EngineDevice {
     pub queue: vk::Queue,
     pub family: u32,
     pub features: vk::PhysicalDeviceFeatures,
+    /// Whether the instance has a window system's surface extensions and the device
+    /// `VK_KHR_swapchain`.
+    pub presentation: bool,
     debug: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
     pool: vk::CommandPool,
     /// One command buffer and fence per frame in flight.
@@ -45,15 +48,19 @@ pub struct EngineDevice {
 }
 
 impl EngineDevice {
-    /// Creates everything, with `frames_in_flight` command buffers and signalled fences.
-    pub fn new(frames_in_flight: u32) -> anyhow::Result<Self> {
+    /// Creates everything, with `frames_in_flight` command buffers and signalled fences; with
+    /// `surface_extensions` (a window's), the instance gets them and the device
+    /// `VK_KHR_swapchain`.
+    pub fn new(frames_in_flight: u32, surface_extensions: &[&CStr]) -> anyhow::Result<Self> {
         let validation = std::env::var("UMBRA_VALIDATION").is_ok_and(|v| v == "1");
         // SAFETY: plain object creation; everything is destroyed in `Drop`, in reverse order.
         unsafe {
             let entry = ash::Entry::load()?;
             let app = vk::ApplicationInfo::default().api_version(vk::API_VERSION_1_3);
             let layers = [c"VK_LAYER_KHRONOS_validation".as_ptr()];
-            let exts = [ash::ext::debug_utils::NAME.as_ptr()];
+            let mut exts = vec![ash::ext::debug_utils::NAME.as_ptr()];
+            exts.extend(surface_extensions.iter().map(|e| e.as_ptr()));
+            let presentation = !surface_extensions.is_empty();
             let mut info = vk::InstanceCreateInfo::default().application_info(&app).enabled_extension_names(&exts);
             if validation {
                 info = info.enabled_layer_names(&layers);
@@ -99,8 +106,11 @@ impl EngineDevice {
             let priorities = [1.0];
             let queues =
                 [vk::DeviceQueueCreateInfo::default().queue_family_index(family).queue_priorities(&priorities)];
+            let device_exts = [ash::khr::swapchain::NAME.as_ptr()];
+            let device_exts = if presentation { &device_exts[..] } else { &[] };
             let info = vk::DeviceCreateInfo::default()
                 .queue_create_infos(&queues)
+                .enabled_extension_names(device_exts)
                 .enabled_features(&features)
                 .push_next(&mut f13);
             let device = instance.create_device(physical, &info, None)?;
@@ -117,7 +127,7 @@ impl EngineDevice {
             for cmd in cmds {
                 frames.push((cmd, device.create_fence(&signalled, None)?));
             }
-            Ok(Self { entry, instance, physical, device, queue, family, features, debug, pool, frames })
+            Ok(Self { entry, instance, physical, device, queue, family, features, presentation, debug, pool, frames })
         }
     }
 
@@ -133,7 +143,7 @@ impl EngineDevice {
             enabled_features: self.features,
             debug_utils: true,
             conservative_rasterization: false,
-            presentation: false,
+            presentation: self.presentation,
         })?)
     }
 

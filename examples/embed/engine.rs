@@ -241,6 +241,17 @@ impl Engine {
         }
     }
 
+    /// Leaves the colour target ready to be copied out by later submissions (a swapchain's
+    /// blit, `Swapchain::present_image`).
+    pub fn to_transfer<'a>(&'a self, rec: &mut Recorder<'a>) {
+        rec.transition(&[(&self.color, ImageState::ColorAttachment, ImageState::TransferSrc)]);
+    }
+
+    /// The colour target.
+    pub fn color(&self) -> &Image {
+        &self.color
+    }
+
     /// Copies the colour target into the readback buffer (read after the frame's fence).
     pub fn copy_out<'a>(&'a self, rec: &mut Recorder<'a>) {
         rec.transition(&[(&self.color, ImageState::ColorAttachment, ImageState::TransferSrc)]);

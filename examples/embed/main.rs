@@ -6,17 +6,20 @@
 //! passes (`Shadows::record`, docs/embedding.md). The teapot moves around Suzanne every frame;
 //! only its transform reaches umbra.
 //!
-//! Headless: renders `--frames` frames and writes the first and the last as PNG with one line
-//! per frame (what umbra recorded, uploaded, allocated and submitted, and the GPU time of the
-//! slot's previous frame).
+//! Headless (the default): renders `--frames` frames and writes the first and the last as PNG
+//! with one line per frame (what umbra recorded, uploaded, allocated and submitted, and the GPU
+//! time of the slot's previous frame). `--window`: the same frames in a window, presented
+//! from the GPU.
 //!
 //! ```text
 //! cargo run --release --example embed -- --out out/embed
 //! cargo run --release --example embed -- --technique shadow_volume --frames 48
+//! cargo run --release --example embed -- --window
 //! ```
 
 mod device;
 mod engine;
+mod window;
 
 use clap::Parser;
 use device::EngineDevice;
@@ -36,10 +39,14 @@ struct Args {
     /// silhouette_map, hybrid, auto); default: the scene's.
     #[arg(long, value_parser = parse_technique)]
     technique: Option<Technique>,
-    /// Frames rendered (1 to 10000); the last object turns once around the scene's axis every
-    /// 48 frames.
-    #[arg(long, default_value_t = 12, value_parser = clap::value_parser!(u64).range(1..=10_000))]
-    frames: u64,
+    /// Frames rendered (1 to 10000; headless default 12, with `--window` until it is closed);
+    /// the last object turns once around the scene's axis every 48 frames.
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=10_000))]
+    frames: Option<u64>,
+    /// Show the frames in a window (Esc or closing it quits): the engine's colour target is
+    /// blitted into the swapchain on the GPU (`Swapchain::present_image`).
+    #[arg(long)]
+    window: bool,
     /// Frames in flight (1 to 4).
     #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(1..=4))]
     frames_in_flight: u32,
@@ -66,52 +73,128 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
 
 fn main() -> anyhow::Result<()> {
     let args = Args::parse();
-    let mut scene = umbra::scene::load(&args.scene)?;
-    if let Some(t) = args.technique {
-        scene.lights.iter_mut().for_each(|l| l.technique = t);
+    if args.window {
+        return window::run(&args);
     }
-    anyhow::ensure!(!scene.objects.is_empty(), "{}: no objects", args.scene);
     std::fs::create_dir_all(&args.out)?;
-    let device = EngineDevice::new(args.frames_in_flight)?;
-    let ctx = device.umbra_context()?;
-    let (width, height) = args.size;
-    let mut engine = Engine::new(&ctx, &scene, width, height, args.frames_in_flight as usize)?;
-    let desc = ShadowsDesc {
-        settings: RendererDesc::new(width, height),
-        depth_format: engine.depth_format(),
-        frames_in_flight: args.frames_in_flight,
-    };
-    let mut shadows = Shadows::new(&ctx, desc)?;
-    let ids = register(&mut shadows, &scene)?;
-    println!(
-        "engine on {}: {} objects, {} lights, {width}x{height}",
-        ctx.capabilities().device_name,
-        scene.objects.len(),
-        scene.lights.len()
-    );
-    let (moving, start) = (scene.objects.len() - 1, scene.objects[scene.objects.len() - 1].transform);
-    for frame in 0..args.frames {
-        let angle = frame as f32 * std::f32::consts::TAU / 48.0;
-        scene.objects[moving].transform = Mat4::from_rotation_y(angle) * start;
-        shadows.set_transform(ids[moving], scene.objects[moving].transform)?;
-        let slot = (frame % u64::from(args.frames_in_flight)) as usize;
-        let last = frame + 1 == args.frames;
-        let recorded = record_frame(&device, &ctx, &mut engine, &mut shadows, &scene, frame, slot, last)?;
+    let mut run = Run::new(&args, &[])?;
+    let frames = args.frames.unwrap_or(12);
+    for frame in 0..frames {
+        let last = frame + 1 == frames;
+        let recorded = run.frame(frame, if last { Finish::CopyOut } else { Finish::Nothing })?;
         println!("{}", summary(frame, &recorded));
         if frame == 0 || last {
-            device.wait_all()?;
+            run.device.wait_all()?;
             let path = args.out.join(format!("embed-frame-{frame}.png"));
-            image::save_buffer(&path, &engine.pixels()?, width, height, image::ColorType::Rgba8)?;
+            let (width, height) = args.size;
+            image::save_buffer(&path, &run.engine.pixels()?, width, height, image::ColorType::Rgba8)?;
             println!("wrote {}", path.display());
         }
     }
-    device.wait_all()?;
-    drop(shadows);
-    drop(engine);
-    drop(ctx);
-    let messages = device::MESSAGES.load(std::sync::atomic::Ordering::Relaxed);
-    anyhow::ensure!(messages == 0, "{messages} validation messages");
-    Ok(())
+    run.finish()
+}
+
+/// What the engine does with its colour target at the end of a frame.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Finish {
+    Nothing,
+    /// Copy it into the readback buffer (headless: the frames written as PNG).
+    CopyOut,
+    /// Leave it for the swapchain's blit (`--window`).
+    Present,
+}
+
+/// The engine with umbra linked: its device, umbra's context over it, its renderer, umbra's
+/// shadows, and the scene. Fields drop in order: umbra's shadows, the engine's renderer,
+/// umbra's context, the engine's device.
+struct Run {
+    scene: Scene,
+    ids: Vec<InstanceId>,
+    moving: (usize, Mat4),
+    frames_in_flight: u32,
+    shadows: Shadows,
+    engine: Engine,
+    ctx: umbra::vk::Context,
+    device: EngineDevice,
+}
+
+impl Run {
+    /// Loads the scene and sets everything up (with a window's `surface_extensions`, a device
+    /// that can present).
+    fn new(args: &Args, surface_extensions: &[&std::ffi::CStr]) -> anyhow::Result<Self> {
+        let mut scene = umbra::scene::load(&args.scene)?;
+        if let Some(t) = args.technique {
+            scene.lights.iter_mut().for_each(|l| l.technique = t);
+        }
+        anyhow::ensure!(!scene.objects.is_empty(), "{}: no objects", args.scene);
+        let device = EngineDevice::new(args.frames_in_flight, surface_extensions)?;
+        let ctx = device.umbra_context()?;
+        let (width, height) = args.size;
+        let engine = Engine::new(&ctx, &scene, width, height, args.frames_in_flight as usize)?;
+        let desc = ShadowsDesc {
+            settings: RendererDesc::new(width, height),
+            depth_format: engine.depth_format(),
+            frames_in_flight: args.frames_in_flight,
+        };
+        let mut shadows = Shadows::new(&ctx, desc)?;
+        let ids = register(&mut shadows, &scene)?;
+        let device_name = &ctx.capabilities().device_name;
+        println!(
+            "engine on {device_name}: {} objects, {} lights, {width}x{height}",
+            scene.objects.len(),
+            scene.lights.len()
+        );
+        let moving = (scene.objects.len() - 1, scene.objects[scene.objects.len() - 1].transform);
+        let frames_in_flight = args.frames_in_flight;
+        Ok(Self { scene, ids, moving, frames_in_flight, shadows, engine, ctx, device })
+    }
+
+    /// Frame `frame`: the last object moved, then depth pre-pass, umbra's shadows and shading
+    /// recorded into the slot's command buffer and submitted with its fence.
+    fn frame(&mut self, frame: u64, finish: Finish) -> anyhow::Result<ShadowFrame> {
+        let (moving, start) = self.moving;
+        let angle = frame as f32 * std::f32::consts::TAU / 48.0;
+        self.scene.objects[moving].transform = Mat4::from_rotation_y(angle) * start;
+        self.shadows.set_transform(self.ids[moving], self.scene.objects[moving].transform)?;
+        let slot = (frame % u64::from(self.frames_in_flight)) as usize;
+        let cmd = self.device.begin_frame(slot)?;
+        let (scene, engine) = (&self.scene, &mut self.engine);
+        let aspect = engine.width as f32 / engine.height as f32;
+        let (view, proj) = (scene.camera.view(), scene.camera.projection(aspect));
+        let inputs =
+            FrameInputs { depth: engine.depth_target(), view, proj, lights: &scene.lights, frame_index: frame };
+        {
+            let mut rec = self.ctx.record_into(cmd);
+            engine.depth_prepass(&mut rec, slot, scene)?;
+        }
+        let recorded = self.shadows.record(cmd, &inputs)?;
+        // Host writes before the submission: the pre-pass recorded above reads them too.
+        engine.write_frame(slot, scene, proj * view, &recorded.lights)?;
+        {
+            let mut rec = self.ctx.record_into(cmd);
+            engine.shade(&mut rec, slot, scene)?;
+            match finish {
+                Finish::Nothing => {}
+                Finish::CopyOut => engine.copy_out(&mut rec),
+                Finish::Present => engine.to_transfer(&mut rec),
+            }
+        }
+        self.device.submit_frame(slot)?;
+        Ok(recorded)
+    }
+
+    /// Waits for every frame, drops umbra and the engine's renderer, and fails if the
+    /// engine's messenger heard from the validation layer.
+    fn finish(self) -> anyhow::Result<()> {
+        self.device.wait_all()?;
+        let Run { shadows, engine, ctx, device, .. } = self;
+        drop((shadows, engine, ctx));
+        drop(device);
+        let messages = device::MESSAGES.load(std::sync::atomic::Ordering::Relaxed);
+        println!("validation messages: {messages}");
+        anyhow::ensure!(messages == 0, "{messages} validation messages");
+        Ok(())
+    }
 }
 
 /// Registers every mesh and object of `scene` with umbra.
@@ -130,43 +213,8 @@ fn register(shadows: &mut Shadows, scene: &Scene) -> anyhow::Result<Vec<Instance
     Ok(ids)
 }
 
-/// One engine frame in slot `slot`: depth pre-pass, umbra's shadows, shading (and, on the
-/// `last` frame, the copy out), submitted with the slot's fence.
-#[allow(clippy::too_many_arguments)]
-fn record_frame(
-    device: &EngineDevice,
-    ctx: &umbra::vk::Context,
-    engine: &mut Engine,
-    shadows: &mut Shadows,
-    scene: &Scene,
-    frame: u64,
-    slot: usize,
-    copy_out: bool,
-) -> anyhow::Result<ShadowFrame> {
-    let cmd = device.begin_frame(slot)?;
-    let aspect = engine.width as f32 / engine.height as f32;
-    let (view, proj) = (scene.camera.view(), scene.camera.projection(aspect));
-    let inputs = FrameInputs { depth: engine.depth_target(), view, proj, lights: &scene.lights, frame_index: frame };
-    {
-        let mut rec = ctx.record_into(cmd);
-        engine.depth_prepass(&mut rec, slot, scene)?;
-    }
-    let recorded = shadows.record(cmd, &inputs)?;
-    // Host writes before the submission: the pre-pass recorded above reads them too.
-    engine.write_frame(slot, scene, proj * view, &recorded.lights)?;
-    {
-        let mut rec = ctx.record_into(cmd);
-        engine.shade(&mut rec, slot, scene)?;
-        if copy_out {
-            engine.copy_out(&mut rec);
-        }
-    }
-    device.submit_frame(slot)?;
-    Ok(recorded)
-}
-
 /// One line about what umbra did in a frame.
-fn summary(frame: u64, f: &ShadowFrame) -> String {
+pub(crate) fn summary(frame: u64, f: &ShadowFrame) -> String {
     let shadowed = f.lights.iter().filter(|l| l.visibility.is_some()).count();
     let earlier = f.earlier_passes.as_ref().map_or("-".to_string(), |p| {
         let ms: f64 = p.iter().filter_map(|p| p.gpu_ms).sum();
