@@ -83,6 +83,9 @@ fn main() -> anyhow::Result<()> {
         let last = frame + 1 == frames;
         let recorded = run.frame(frame, if last { Finish::CopyOut } else { Finish::Nothing })?;
         println!("{}", summary(frame, &recorded));
+        if let (true, Some(passes)) = (last, &recorded.earlier_passes) {
+            print!("{}", per_light(&recorded, passes));
+        }
         if frame == 0 || last {
             run.device.wait_all()?;
             let path = args.out.join(format!("embed-frame-{frame}.png"));
@@ -211,6 +214,20 @@ fn register(shadows: &mut Shadows, scene: &Scene) -> anyhow::Result<Vec<Instance
         ids.push(shadows.add_instance(instance)?);
     }
     Ok(ids)
+}
+
+/// What umbra's passes cost on the GPU per light in the slot's previous frame (and what no
+/// light owns: the mesh upload, a depth rebuild, the hand-off).
+fn per_light(frame: &ShadowFrame, passes: &[umbra::shadows::PassReport]) -> String {
+    let mut out = String::from("umbra's GPU time per light (the slot's previous frame):\n");
+    let lights = frame.lights.iter().map(|l| (Some(l.light), format!("light {} ({:?})", l.light, l.plan.technique)));
+    for (light, name) in lights.chain([(None, "no light".to_string())]) {
+        let mine: Vec<_> = passes.iter().filter(|p| p.light == light).collect();
+        let ms: f64 = mine.iter().filter_map(|p| p.gpu_ms).sum();
+        let names: Vec<&str> = mine.iter().map(|p| p.name.as_str()).collect();
+        out += &format!("  {name}: {ms:.3} ms [{}]\n", names.join(", "));
+    }
+    out
 }
 
 /// One line about what umbra did in a frame.
