@@ -108,13 +108,8 @@ impl Engine {
     /// The depth pre-pass of `scene`'s objects seen through `view_proj`.
     fn depth_pass<'a>(&'a self, rec: &mut Recorder<'a>, scene: &Scene, view_proj: Mat4) {
         rec.transition(&[(&self.depth, ImageState::Undefined, ImageState::DepthStencilAttachment)]);
-        let depth = DepthAttachment {
-            image: &self.depth,
-            view: None,
-            clear: Some((if self.convention.reversed { 0.0 } else { 1.0 }, 0)),
-            clear_stencil: None,
-            read_only: false,
-        };
+        let far = if self.convention.reversed { 0.0 } else { 1.0 };
+        let depth = DepthAttachment::cleared(&self.depth, far, 0);
         rec.begin_rendering(&RenderTargets { color: &[], depth: Some(depth) });
         rec.bind_pipeline(&self.pipeline);
         for o in &scene.objects {

@@ -194,13 +194,7 @@ impl Engine {
     pub fn depth_prepass<'a>(&'a self, rec: &mut Recorder<'a>, slot: usize, scene: &Scene) -> anyhow::Result<()> {
         rec.begin_label("engine depth pre-pass");
         rec.transition(&[(&self.depth, ImageState::Undefined, ImageState::DepthStencilAttachment)]);
-        let depth = DepthAttachment {
-            image: &self.depth,
-            view: None,
-            clear: Some((1.0, 0)),
-            clear_stencil: None,
-            read_only: false,
-        };
+        let depth = DepthAttachment::cleared(&self.depth, 1.0, 0);
         rec.begin_rendering(&RenderTargets { color: &[], depth: Some(depth) });
         rec.bind_pipeline(&self.prepass);
         rec.bind_descriptor_set(&self.layout, 0, &self.frames[slot].uniform_set);
@@ -216,8 +210,7 @@ impl Engine {
         rec.begin_label("engine shading");
         rec.transition(&[(&self.color, ImageState::Undefined, ImageState::ColorAttachment)]);
         let color = [ColorAttachment { image: &self.color, clear: Some(scene.background.extend(1.0).to_array()) }];
-        let depth =
-            DepthAttachment { image: &self.depth, view: None, clear: None, clear_stencil: None, read_only: false };
+        let depth = DepthAttachment::keep(&self.depth);
         rec.begin_rendering(&RenderTargets { color: &color, depth: Some(depth) });
         rec.bind_pipeline(&self.shading);
         let frame = &self.frames[slot];

@@ -84,16 +84,7 @@ pub fn depth_target(
 pub fn begin_depth_pass<'a>(rec: &mut umbra::vk::Recorder<'a>, depth: &'a umbra::vk::Image) {
     use umbra::vk::{DepthAttachment, ImageState, RenderTargets};
     rec.transition(&[(depth, ImageState::Undefined, ImageState::DepthStencilAttachment)]);
-    rec.begin_rendering(&RenderTargets {
-        color: &[],
-        depth: Some(DepthAttachment {
-            image: depth,
-            view: None,
-            clear: Some((1.0, 0)),
-            clear_stencil: None,
-            read_only: false,
-        }),
-    });
+    rec.begin_rendering(&RenderTargets { color: &[], depth: Some(DepthAttachment::cleared(depth, 1.0, 0)) });
 }
 
 /// A full-screen draw that counts, with an occlusion query, the pixels whose stencil value

@@ -68,13 +68,7 @@ impl DepthRebuild {
         scene: &Scene,
         log: &mut PassLog,
     ) -> RenderResult<()> {
-        let depth = DepthAttachment {
-            image: self.made()?,
-            view: None,
-            clear: Some((1.0, 0)),
-            clear_stencil: None,
-            read_only: false,
-        };
+        let depth = DepthAttachment::cleared(self.made()?, 1.0, 0);
         rec.begin_rendering(&RenderTargets { color: &[], depth: Some(depth) });
         rec.bind_pipeline(&self.pipeline);
         draw_objects(rec, layout, gpu, scene, 0, log);

@@ -47,6 +47,11 @@ impl<'a> DepthAttachment<'a> {
         Self { image, view: None, clear: None, clear_stencil: None, read_only: false }
     }
 
+    /// `image`'s default view, its depth cleared to `depth` and its stencil to `stencil`.
+    pub fn cleared(image: &'a Image, depth: f32, stencil: u32) -> Self {
+        Self { clear: Some((depth, stencil)), ..Self::keep(image) }
+    }
+
     /// `image`'s default view, its depth kept and its stencil cleared to `stencil`.
     pub fn clearing_stencil(image: &'a Image, stencil: u32) -> Self {
         Self { clear_stencil: Some(stencil), ..Self::keep(image) }

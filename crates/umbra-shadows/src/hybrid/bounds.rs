@@ -182,13 +182,7 @@ impl BoundsPass {
         };
         for (layer, view) in target.layers.iter().enumerate() {
             let face = layer / LAYERS_PER_FACE as usize;
-            let depth = DepthAttachment {
-                image: &target.image,
-                view: Some(view),
-                clear: Some((1.0, 0)),
-                clear_stencil: None,
-                read_only: false,
-            };
+            let depth = DepthAttachment { view: Some(view), ..DepthAttachment::cleared(&target.image, 1.0, 0) };
             cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(depth) });
             cx.rec.bind_pipeline(&self.pipelines[layer % LAYERS_PER_FACE as usize]);
             cx.rec.bind_descriptor_set(&self.layout, 0, &gpu.frame.set);

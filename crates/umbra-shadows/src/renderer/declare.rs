@@ -208,13 +208,7 @@ impl Renderer {
         stage.pass(PassId::Ambient, &[Use::Image(color, Color), Use::Image(depth, Depth)], move |cx| {
             let bg = f.scene.background;
             let clear = [ColorAttachment { image: color, clear: Some([bg.x, bg.y, bg.z, 1.0]) }];
-            let depth = DepthAttachment {
-                image: depth,
-                view: None,
-                clear: Some((1.0, 0)),
-                clear_stencil: None,
-                read_only: false,
-            };
+            let depth = DepthAttachment::cleared(depth, 1.0, 0);
             cx.rec.begin_rendering(&RenderTargets { color: &clear, depth: Some(depth) });
             self.forward.record_ambient(cx.rec, &self.layout, f.gpu, f.scene, cx.log);
             cx.rec.end_rendering();

@@ -192,11 +192,8 @@ impl ShadowMapPass {
             rec.begin_rendering(&RenderTargets {
                 color: &[],
                 depth: Some(DepthAttachment {
-                    image: &target.image,
                     view: target.faces.get(layer),
-                    clear: Some((1.0, 0)),
-                    clear_stencil: None,
-                    read_only: false,
+                    ..DepthAttachment::cleared(&target.image, 1.0, 0)
                 }),
             });
             rec.bind_pipeline(&self.pipeline);
