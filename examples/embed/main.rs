@@ -190,13 +190,18 @@ impl Run {
     /// engine's messenger heard from the validation layer.
     fn finish(self) -> anyhow::Result<()> {
         self.device.wait_all()?;
-        let Run { shadows, engine, ctx, device, .. } = self;
-        drop((shadows, engine, ctx));
-        drop(device);
+        drop(self);
         let messages = device::MESSAGES.load(std::sync::atomic::Ordering::Relaxed);
         println!("validation messages: {messages}");
         anyhow::ensure!(messages == 0, "{messages} validation messages");
         Ok(())
+    }
+}
+
+impl Drop for Run {
+    /// On an error too, nothing is destroyed while a frame may still use it.
+    fn drop(&mut self) {
+        let _ = self.device.wait_all();
     }
 }
 

@@ -333,8 +333,9 @@ impl Context {
         self.inner.allocations.load(std::sync::atomic::Ordering::Relaxed)
     }
 
-    /// How many queue submissions umbra made through this context so far (its own command
-    /// buffers; never an engine's, which the engine submits).
+    /// How many command buffers umbra submitted and waited for through this context so far
+    /// ([`Context::submit_and_wait`]; not a [`crate::Swapchain`]'s presentation copies, and
+    /// never an engine's command buffers, which the engine submits).
     pub fn submissions(&self) -> u64 {
         self.inner.submissions.load(std::sync::atomic::Ordering::Relaxed)
     }

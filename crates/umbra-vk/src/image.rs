@@ -129,7 +129,8 @@ impl ImageState {
                 (depth_stages | S::FRAGMENT_SHADER, A::DEPTH_STENCIL_ATTACHMENT_READ | A::SHADER_SAMPLED_READ)
             }
             ImageState::FragmentRead => (S::FRAGMENT_SHADER, A::SHADER_SAMPLED_READ),
-            ImageState::TransferSrc => (S::COPY, A::TRANSFER_READ),
+            // Copies and blits (a swapchain's `present_image`) read in ALL_TRANSFER.
+            ImageState::TransferSrc => (S::ALL_TRANSFER, A::TRANSFER_READ),
             // Copies, blits and clears (vkCmdClear*Image runs in the CLEAR stage, not COPY).
             ImageState::TransferDst => (S::ALL_TRANSFER, A::TRANSFER_WRITE),
         }

@@ -27,6 +27,9 @@ const TIMEOUT_NS: u64 = 60_000_000_000;
 const FORMAT_PREFERENCE: [vk::Format; 4] =
     [vk::Format::B8G8R8A8_UNORM, vk::Format::R8G8B8A8_UNORM, vk::Format::B8G8R8A8_SRGB, vk::Format::R8G8B8A8_SRGB];
 
+/// The formats [`Swapchain::present_image`] takes.
+const PRESENTABLE: [vk::Format; 2] = [vk::Format::R8G8B8A8_UNORM, vk::Format::B8G8R8A8_UNORM];
+
 /// How a [`Swapchain`] is created.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct SwapchainDesc {
@@ -97,6 +100,10 @@ pub struct Swapchain {
     stale: bool,
     /// Whether swapchain images can be copied from (for captures).
     capturable: bool,
+    /// Whether [`Swapchain::present_image`] can blit into the swapchain's format, and from
+    /// which source formats (R8G8B8A8_UNORM, B8G8R8A8_UNORM); probed once.
+    blit_into: bool,
+    blit_from: [bool; 2],
     pool: vk::CommandPool,
     slots: Vec<Slot>,
     next: usize,
@@ -138,6 +145,8 @@ impl Swapchain {
             extent: vk::Extent2D::default(),
             stale: true,
             capturable: false,
+            blit_into: false,
+            blit_from: [false; 2],
             pool,
             slots: Vec::new(),
             next: 0,
@@ -150,6 +159,9 @@ impl Swapchain {
             let slot = swapchain.new_slot(i)?;
             swapchain.slots.push(slot);
         }
+        let unorm = matches!(format.format, vk::Format::B8G8R8A8_UNORM | vk::Format::R8G8B8A8_UNORM);
+        swapchain.blit_into = unorm && swapchain.blits(format.format, vk::FormatFeatureFlags::BLIT_DST);
+        swapchain.blit_from = PRESENTABLE.map(|f| swapchain.blits(f, vk::FormatFeatureFlags::BLIT_SRC));
         swapchain.recreate()?;
         swapchain.recreations = 0;
         Ok(swapchain)
@@ -225,8 +237,7 @@ impl Swapchain {
     /// UNORM (a blit then moves bytes unchanged, as [`Swapchain::present`] does) and the
     /// device blits into it.
     pub fn can_present_images(&self) -> bool {
-        let unorm = matches!(self.format.format, vk::Format::B8G8R8A8_UNORM | vk::Format::R8G8B8A8_UNORM);
-        unorm && self.blits(self.format.format, vk::FormatFeatureFlags::BLIT_DST)
+        self.blit_into
     }
 
     /// Presents `image` straight from the GPU: an `R8G8B8A8_UNORM` or `B8G8R8A8_UNORM` image
@@ -240,7 +251,8 @@ impl Swapchain {
     /// [`Swapchain::wait`] before destroying it. With `capture` as in [`Swapchain::present`].
     pub fn present_image(&mut self, image: &Image, capture: bool) -> VkResult<Option<Presented>> {
         let f = image.desc.format;
-        if !matches!(f, vk::Format::R8G8B8A8_UNORM | vk::Format::B8G8R8A8_UNORM)
+        let source = PRESENTABLE.iter().position(|&p| p == f);
+        if source.is_none()
             || !image.desc.usage.contains(vk::ImageUsageFlags::TRANSFER_SRC)
             || image.desc.layers != 1
             || image.desc.samples != vk::SampleCountFlags::TYPE_1
@@ -253,7 +265,7 @@ impl Swapchain {
                 ),
             });
         }
-        if !self.can_present_images() || !self.blits(f, vk::FormatFeatureFlags::BLIT_SRC) {
+        if !self.blit_into || !source.is_some_and(|i| self.blit_from[i]) {
             return Err(self
                 .ctx
                 .unsupported(format!("blitting {f:?} images into a {:?} swapchain", self.format.format)));
@@ -425,13 +437,25 @@ impl Swapchain {
                         device
                             .cmd_pipeline_barrier2(s.cmd, &vk::DependencyInfo::default().image_memory_barriers(&deps));
                     }
+                    // The source's writes, from earlier submissions, made visible to the blit.
+                    let src_layout = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+                    let source = vk::ImageMemoryBarrier2::default()
+                        .image(src.raw)
+                        .subresource_range(range)
+                        .old_layout(src_layout)
+                        .new_layout(src_layout)
+                        .src_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
+                        .src_access_mask(vk::AccessFlags2::MEMORY_WRITE)
+                        .dst_stage_mask(vk::PipelineStageFlags2::BLIT)
+                        .dst_access_mask(vk::AccessFlags2::TRANSFER_READ);
+                    let deps = [source];
+                    device.cmd_pipeline_barrier2(s.cmd, &vk::DependencyInfo::default().image_memory_barriers(&deps));
                     let corner = [vk::Offset3D::default(), vk::Offset3D { x: w as i32, y: h as i32, z: 1 }];
                     let blit = [vk::ImageBlit::default()
                         .src_subresource(layers)
                         .src_offsets(corner)
                         .dst_subresource(layers)
                         .dst_offsets(corner)];
-                    let src_layout = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
                     device.cmd_blit_image(s.cmd, src.raw, src_layout, target, dst, &blit, vk::Filter::NEAREST);
                 }
             }

@@ -45,7 +45,7 @@ pub struct RendererDesc {
     /// light (8 bytes a pixel), reported as a diagnostic pass. Off by default.
     pub read_visibility: bool,
     /// Read the colour target back into [`Frame::rgba`]. On by default; off, the frame's
-    /// pixels stay on the GPU ([`Renderer::color_image`], to present with
+    /// pixels stay on the GPU ([`crate::Renderer::color_image`], to present with
     /// `umbra_vk::Swapchain::present_image`) and `rgba` is empty.
     pub read_color: bool,
     /// Plan each frame so that nothing that cannot change the image is recorded (lights out of
@@ -110,7 +110,8 @@ impl Frame {
     /// The RGBA value at `(x, y)`, `y = 0` being the top row.
     ///
     /// # Panics
-    /// When `(x, y)` lies outside the frame, like slice indexing.
+    /// When `(x, y)` lies outside the frame, like slice indexing, and for every pixel of a
+    /// frame not read back (`RendererDesc::read_color` off: `rgba` is empty).
     pub fn pixel(&self, x: u32, y: u32) -> [u8; 4] {
         let i = 4 * (y as usize * self.width as usize + x as usize);
         let mut p = [0; 4];

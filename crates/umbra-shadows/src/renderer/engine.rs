@@ -124,7 +124,12 @@ impl Renderer {
             passes
         });
         let geometry_uploaded_bytes = gpu.geometry_uploaded;
-        self.geometry = Some(self.slot.keep(gpu));
+        match recorded {
+            Ok(_) => self.geometry = Some(self.slot.keep(gpu)),
+            // The engine will not submit what was recorded: the meshes were never copied (the
+            // next frame uploads them again), and what the recording refers to is retired.
+            Err(_) => self.slot.retired.keep(gpu),
+        }
         let (passes, shadowed) = recorded?;
         Ok((passes, shadowed, geometry_uploaded_bytes))
     }

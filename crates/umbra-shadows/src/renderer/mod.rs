@@ -277,15 +277,16 @@ impl OwnTargets {
 }
 
 impl Renderer {
-    /// Its own targets; an error recording into an engine's frame, which has none.
     /// The colour target of the last frame [`Renderer::render`] drew, in
-    /// `TRANSFER_SRC_OPTIMAL` with its writes visible to transfers of later submissions (to
-    /// present it without reading it back: `umbra_vk::Swapchain::present_image`). The next
-    /// `render` writes it again after waiting for every earlier command on the queue.
+    /// `TRANSFER_SRC_OPTIMAL` with its writes visible to every transfer stage of later
+    /// submissions (to present it without reading it back:
+    /// `umbra_vk::Swapchain::present_image`). The next `render` writes it again after waiting
+    /// for every earlier command on the queue.
     pub fn color_image(&self) -> RenderResult<&Image> {
         Ok(&self.own()?.color)
     }
 
+    /// Its own targets; an error recording into an engine's frame, which has none.
     fn own(&self) -> RenderResult<&OwnTargets> {
         self.own.as_ref().ok_or_else(|| crate::RenderError::InvalidInput {
             field: "Renderer::render".into(),

@@ -112,8 +112,9 @@ pub struct ShadowFrame {
     pub geometry_uploaded_bytes: u64,
     /// Vulkan memory allocations made while recording it (0 once warm).
     pub memory_allocations: u64,
-    /// Queue submissions umbra made while recording it: 0, always (a mesh upload too is
-    /// recorded into the engine's command buffer, the `mesh upload` pass).
+    /// Queue submissions made through the context while recording it (`Context::submissions`;
+    /// nothing else should submit through it meanwhile): 0, `record` never submits (a mesh
+    /// upload too is recorded into the engine's command buffer, the `mesh upload` pass).
     pub submissions: u64,
     /// Why umbra re-drew the scene's depth into an image of its own this frame (a depth-only
     /// pass, `depth rebuild`), or `None` when its passes tested the engine's depth as it was.
@@ -169,7 +170,8 @@ pub(crate) fn convention(proj: Mat4) -> RenderResult<Convention> {
 pub enum RebuildReason {
     /// The engine's depth is multisampled; umbra's passes are single-sampled.
     Multisampled,
-    /// The engine's depth has no stencil, and shadow volumes count in one.
+    /// The engine's depth has no stencil: umbra's passes are built for a depth/stencil format
+    /// (shadow volumes count in the stencil), so they cannot use it as an attachment.
     NoStencil,
     /// The engine's projection is reversed-Z; umbra's passes test standard depth.
     ReversedZ,
