@@ -173,12 +173,18 @@ struct CpuTimes {
     present_ms: f64,
     /// `None` where the thread's CPU time cannot be read (`/proc/thread-self/schedstat`).
     thread_ms: Option<f64>,
+    /// Where the schedstat line is read into (kept: nothing allocated per frame).
+    stat: String,
 }
 
-/// Nanoseconds the calling thread has run on a CPU (Linux), or `None`.
-fn thread_cpu_ns() -> Option<u64> {
-    let stat = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
-    stat.split_whitespace().next()?.parse().ok()
+impl CpuTimes {
+    /// Nanoseconds the calling thread has run on a CPU (Linux), or `None`.
+    fn thread_ns(&mut self) -> Option<u64> {
+        use std::io::Read;
+        self.stat.clear();
+        std::fs::File::open("/proc/thread-self/schedstat").ok()?.read_to_string(&mut self.stat).ok()?;
+        self.stat.split_whitespace().next()?.parse().ok()
+    }
 }
 
 impl Viewer {
@@ -270,7 +276,7 @@ impl Viewer {
         self.apply_held_keys();
         let time = animate::frame_time(self.animation_frame);
         self.update_scene(time);
-        let (rendering, thread_before) = (Instant::now(), thread_cpu_ns());
+        let (rendering, thread_before) = (Instant::now(), self.cpu.thread_ns());
         let frame = match self.renderer.render(&self.scene) {
             Ok(f) => f,
             Err(e @ RenderError::UnsupportedLight { .. }) => {
@@ -299,7 +305,8 @@ impl Viewer {
         self.cpu.frames += 1;
         self.cpu.render_ms += (presenting - rendering).as_secs_f64() * 1e3;
         self.cpu.present_ms += presenting.elapsed().as_secs_f64() * 1e3;
-        self.cpu.thread_ms = match (thread_before, thread_cpu_ns(), self.cpu.thread_ms) {
+        let thread_after = self.cpu.thread_ns();
+        self.cpu.thread_ms = match (thread_before, thread_after, self.cpu.thread_ms) {
             (Some(a), Some(b), Some(sum)) if self.cpu.frames > 1 => Some(sum + (b - a) as f64 / 1e6),
             (Some(a), Some(b), _) if self.cpu.frames == 1 => Some((b - a) as f64 / 1e6),
             _ => None,

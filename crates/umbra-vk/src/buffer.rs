@@ -136,6 +136,12 @@ impl Buffer {
         Ok(())
     }
 
+    /// Sets every byte of a host-visible buffer to `byte` (poisoning a readback, say).
+    pub fn fill_host(&mut self, byte: u8) -> VkResult<()> {
+        self.mapped_mut()?.fill(byte);
+        Ok(())
+    }
+
     /// Reads the whole content of a host-visible buffer.
     pub fn read(&self) -> VkResult<Vec<u8>> {
         Ok(self.mapped()?[..self.desc.size as usize].to_vec())

@@ -522,18 +522,17 @@ impl Renderer {
     fn declare_readback<'a>(&'a self, stage: &mut Stage<'a>, overdraw: bool) -> RenderResult<()> {
         let src = ImageState::TransferSrc;
         let own = self.own()?;
-        let read_color = self.desc.read_color;
         let mut uses = vec![Use::Image(&own.color, src)];
-        if read_color {
-            uses.push(Use::Readback(&own.readback));
+        if let Some(readback) = &own.readback {
+            uses.push(Use::Readback(readback));
         }
         let overdraw = self.overdraw.as_ref().filter(|_| overdraw);
         if let Some((image, readback)) = overdraw {
             uses.extend([Use::Image(image, src), Use::Readback(readback)]);
         }
         stage.pass(PassId::Readback, &uses, move |cx| {
-            if read_color {
-                cx.rec.copy_image_to_buffer(&own.color, 0, &own.readback);
+            if let Some(readback) = &own.readback {
+                cx.rec.copy_image_to_buffer(&own.color, 0, readback);
             }
             if let Some((image, readback)) = overdraw {
                 cx.rec.copy_image_to_buffer(image, 0, readback);

@@ -107,7 +107,7 @@ impl Renderer {
             return Err(ctx.unsupported("the hybrid's depth-bounds computation mask (depthBounds)").into());
         }
         check_frame_size(ctx, &desc, depth_format, mask)?;
-        let own = own.then(|| OwnTargets::new(ctx, depth_format, desc.width, desc.height)).transpose()?;
+        let own = own.then(|| OwnTargets::new(ctx, depth_format, &desc)).transpose()?;
         let scene_set_layout = gpu_scene::scene_set_layout(ctx)?;
         let shadow_set_layout = pass::shadow_set_layout(ctx)?;
         let visibility_set_layout = visibility::set_layout(ctx)?;
@@ -231,8 +231,8 @@ impl Renderer {
         // 5. Declare the passes and run them: one submission, two with blocker culling. The
         //    readback is poisoned first so that a copy that never happened cannot pass for a frame.
         self.own()?;
-        if let (Some(own), true) = (self.own.as_mut(), self.desc.read_color) {
-            own.readback.write(0, &vec![0xCD; own.readback.desc.size as usize])?;
+        if let Some(readback) = self.own.as_mut().and_then(|own| own.readback.as_mut()) {
+            readback.fill_host(0xCD)?;
         }
         let prepared = started.elapsed();
         let mut graph = std::mem::take(&mut self.slot.graph);
@@ -263,15 +263,20 @@ impl Renderer {
 struct OwnTargets {
     color: Image,
     depth: Image,
-    readback: Buffer,
+    /// With `RendererDesc::read_color`.
+    readback: Option<Buffer>,
 }
 
 impl OwnTargets {
-    fn new(ctx: &Context, depth_format: vk::Format, width: u32, height: u32) -> RenderResult<Self> {
+    fn new(ctx: &Context, depth_format: vk::Format, desc: &RendererDesc) -> RenderResult<Self> {
+        let (width, height) = (desc.width, desc.height);
+        let readback = desc
+            .read_color
+            .then(|| Buffer::new(ctx, "colour readback", BufferDesc::readback(4 * width as u64 * height as u64)));
         Ok(Self {
             color: frame_target(ctx, "colour target", width, height)?,
             depth: Image::new(ctx, "depth/stencil target", depth_desc(depth_format, width, height))?,
-            readback: Buffer::new(ctx, "colour readback", BufferDesc::readback(4 * width as u64 * height as u64))?,
+            readback: readback.transpose()?,
         })
     }
 }

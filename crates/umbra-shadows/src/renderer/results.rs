@@ -27,9 +27,9 @@ impl Renderer {
         run: FrameRun,
     ) -> RenderResult<Frame> {
         let bindings = self.bindings(sets);
-        let rgba = match self.desc.read_color {
-            true => self.own()?.readback.read()?,
-            false => Vec::new(),
+        let rgba = match &self.own()?.readback {
+            Some(readback) => readback.read()?,
+            None => Vec::new(),
         };
         let overdraw = match (&self.overdraw, run.overdraw) {
             (Some((_, readback)), true) => Some(readback.read()?),
