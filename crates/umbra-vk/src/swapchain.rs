@@ -66,8 +66,8 @@ pub struct Presented {
 /// Where a presented frame's pixels come from.
 #[derive(Clone, Copy)]
 enum Source<'a> {
-    /// The slot's staging buffer, filled on the CPU ([`Swapchain::present`]).
-    Staging,
+    /// RGBA8 pixels from the CPU, through the slot's staging buffer ([`Swapchain::present`]).
+    Pixels { pixels: &'a [u8], width: u32, height: u32 },
     /// An image on the GPU, in `TRANSFER_SRC_OPTIMAL` ([`Swapchain::present_image`]).
     Image(&'a Image),
 }
@@ -212,25 +212,7 @@ impl Swapchain {
                 why: format!("{} bytes for {width}x{height} RGBA8", pixels.len()),
             });
         }
-        if capture && !self.capturable {
-            return Err(self.ctx.unsupported("reading back swapchain images (no TRANSFER_SRC usage)"));
-        }
-        let before = self.recreations;
-        let Some(image) = self.acquire()? else { return Ok(None) };
-        let recreated = self.recreations != before;
-        let slot = self.next;
-        self.next = (self.next + 1) % self.slots.len();
-        self.fill_staging(slot, pixels, width, height)?;
-        if capture {
-            self.ensure_capture_buffer()?;
-        }
-        self.record_copy(slot, image, Source::Staging, capture)?;
-        self.submit_and_present(slot, image)?;
-        let capture = match capture {
-            true => Some(self.read_capture(slot)?),
-            false => None,
-        };
-        Ok(Some(Presented { image, extent: self.extent, recreated, capture }))
+        self.show(Source::Pixels { pixels, width, height }, capture)
     }
 
     /// Whether [`Swapchain::present_image`] can show images: the swapchain's format is 8-bit
@@ -270,24 +252,33 @@ impl Swapchain {
                 .ctx
                 .unsupported(format!("blitting {f:?} images into a {:?} swapchain", self.format.format)));
         }
+        self.show(Source::Image(image), capture)
+    }
+
+    /// Acquires an image, copies `source` into it (pixels through the slot's staging buffer),
+    /// presents it, and with `capture` reads it back.
+    fn show(&mut self, source: Source<'_>, capture: bool) -> VkResult<Option<Presented>> {
         if capture && !self.capturable {
             return Err(self.ctx.unsupported("reading back swapchain images (no TRANSFER_SRC usage)"));
         }
         let before = self.recreations;
-        let Some(index) = self.acquire()? else { return Ok(None) };
+        let Some(image) = self.acquire()? else { return Ok(None) };
         let recreated = self.recreations != before;
         let slot = self.next;
         self.next = (self.next + 1) % self.slots.len();
+        if let Source::Pixels { pixels, width, height } = source {
+            self.fill_staging(slot, pixels, width, height)?;
+        }
         if capture {
             self.ensure_capture_buffer()?;
         }
-        self.record_copy(slot, index, Source::Image(image), capture)?;
-        self.submit_and_present(slot, index)?;
+        self.record_copy(slot, image, source, capture)?;
+        self.submit_and_present(slot, image)?;
         let capture = match capture {
             true => Some(self.read_capture(slot)?),
             false => None,
         };
-        Ok(Some(Presented { image: index, extent: self.extent, recreated, capture }))
+        Ok(Some(Presented { image, extent: self.extent, recreated, capture }))
     }
 
     /// Waits until every frame handed to the swapchain has been copied out of its source.
@@ -424,7 +415,7 @@ impl Swapchain {
             device.cmd_pipeline_barrier2(s.cmd, &vk::DependencyInfo::default().image_memory_barriers(&deps));
             let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
             match source {
-                Source::Staging => {
+                Source::Pixels { .. } => {
                     let staging = s.staging.as_ref().ok_or(VkError::Poisoned)?;
                     device.cmd_copy_buffer_to_image(s.cmd, staging.raw, target, dst, &region);
                 }
