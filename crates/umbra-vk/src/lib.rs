@@ -59,7 +59,7 @@ pub use pipeline::{
     Blend, ColorTarget, DepthState, GraphicsPipeline, GraphicsPipelineDesc, PipelineLayout, StencilFace,
     VertexAttribute,
 };
-pub use query::{QueryKind, QueryPool};
+pub use query::{QueryKind, QueryPool, QUERY_WAIT};
 pub use raw_window_handle;
 pub use sampler::{Sampler, SamplerDesc};
 pub use selection::DEVICE_ENV;

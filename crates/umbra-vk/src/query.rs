@@ -15,6 +15,9 @@ pub enum QueryKind {
     FragmentInvocations,
 }
 
+/// How long [`QueryPool::first_results`] waits for results of completed commands.
+pub const QUERY_WAIT: std::time::Duration = std::time::Duration::from_secs(10);
+
 /// A query pool; destroyed on drop.
 pub struct QueryPool {
     /// The raw pool.
@@ -57,25 +60,21 @@ impl QueryPool {
     }
 
     /// The results of the first `count` queries (those a recording wrote), waiting for them.
+    ///
+    /// Call it once the commands that wrote them completed. It polls rather than passing
+    /// `VK_QUERY_RESULT_WAIT_BIT`, whose wait has no timeout (a query reset but never written
+    /// would hang the caller): results still missing after [`QUERY_WAIT`] are `VK_TIMEOUT`.
     pub fn first_results(&self, count: u32) -> VkResult<Vec<u64>> {
-        if count == 0 || count > self.count {
-            return Err(VkError::InvalidDesc {
-                what: "query results",
-                why: format!("{count} of a pool of {} queries", self.count),
-            });
+        let start = std::time::Instant::now();
+        loop {
+            if let Some(results) = self.available_results(count)? {
+                return Ok(results);
+            }
+            if start.elapsed() > QUERY_WAIT {
+                return Err(vk::Result::TIMEOUT).call("vkGetQueryPoolResults (results never became available)");
+            }
+            std::thread::yield_now();
         }
-        let mut data = vec![0u64; count as usize];
-        // SAFETY: `data` holds one u64 per query (each kind here yields one value).
-        unsafe {
-            self.ctx.inner.device.get_query_pool_results(
-                self.raw,
-                0,
-                &mut data,
-                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
-            )
-        }
-        .call("vkGetQueryPoolResults")?;
-        Ok(data)
     }
 
     /// The results of the first `count` queries when the GPU has written them all, `None` while
