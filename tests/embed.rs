@@ -11,8 +11,8 @@ mod common;
 use glam::{Mat4, Vec3};
 use umbra::scene::{Scene, Technique};
 use umbra::shadows::{
-    DepthTarget, FrameInputs, Instance, InstanceId, RebuildReason, Renderer, RendererDesc, ShadowFrame, Shadows,
-    ShadowsDesc,
+    DepthTarget, FrameInputs, IndexStream, Instance, InstanceId, MeshBuffers, RebuildReason, Renderer, RendererDesc,
+    ShadowFrame, Shadows, ShadowsDesc, VertexStream,
 };
 use umbra::vk::{
     vk, Buffer, BufferDesc, Context, DepthAttachment, GraphicsPipeline, GraphicsPipelineDesc, Image, ImageDesc,
@@ -344,6 +344,90 @@ fn a_mesh_added_between_frames_is_uploaded_inside_the_engines_frame() {
             "a mesh added between frames: {} bytes uploaded by the frame's own first pass, no submission",
             frame.geometry_uploaded_bytes
         );
+    });
+}
+
+/// `mesh` in buffers laid out the way an engine might keep it: vertices interleaved 32 bytes
+/// apart (a float, the position, the normal, a float), 16-bit indices where they fit unless
+/// `wide`, else 32-bit, 16 bytes into their buffer.
+fn engine_mesh(ctx: &Context, mesh: &umbra::scene::Mesh, wide: bool) -> (Buffer, Buffer, MeshBuffers) {
+    let vertices: Vec<[f32; 8]> =
+        mesh.positions.iter().zip(&mesh.normals).map(|(p, n)| [-7.0, p.x, p.y, p.z, n.x, n.y, n.z, 9.0]).collect();
+    let short = !wide && mesh.positions.len() <= usize::from(u16::MAX);
+    let indices: Vec<u8> = match short {
+        true => {
+            [u16::MAX; 8].into_iter().chain(mesh.indices.iter().map(|&i| i as u16)).flat_map(u16::to_le_bytes).collect()
+        }
+        false => [u32::MAX; 4].into_iter().chain(mesh.indices.iter().copied()).flat_map(u32::to_le_bytes).collect(),
+    };
+    let usage = vk::BufferUsageFlags::VERTEX_BUFFER;
+    let v = Buffer::with_data(ctx, "engine mesh vertices", usage, bytemuck::cast_slice(&vertices)).unwrap();
+    let i = Buffer::with_data(ctx, "engine mesh indices", vk::BufferUsageFlags::INDEX_BUFFER, &indices).unwrap();
+    let stream = |offset| VertexStream {
+        buffer: v.raw,
+        buffer_size: v.desc.size,
+        offset,
+        stride: 32,
+        format: vk::Format::R32G32B32_SFLOAT,
+    };
+    let buffers = MeshBuffers {
+        positions: stream(4),
+        normals: stream(16),
+        vertex_count: mesh.positions.len() as u32,
+        indices: IndexStream {
+            buffer: i.raw,
+            buffer_size: i.desc.size,
+            offset: 16,
+            index_type: if short { vk::IndexType::UINT16 } else { vk::IndexType::UINT32 },
+            count: mesh.indices.len() as u32,
+        },
+        bounds: mesh.bounds(),
+    };
+    (v, i, buffers)
+}
+
+#[test]
+fn meshes_in_the_engines_own_buffers_give_the_same_shadow_maps() {
+    common::with_context(|ctx| {
+        let mut scene = scene("cubes", Technique::ShadowMap);
+        let engine = Engine::new(ctx, &scene);
+        let settings = RendererDesc::new(W, H);
+        let desc = ShadowsDesc { settings, depth_format: engine.depth.desc.format, frames_in_flight: 1 };
+        let mut shadows = Shadows::new(ctx, desc).unwrap();
+        let buffers: Vec<_> = scene.meshes.iter().enumerate().map(|(i, m)| engine_mesh(ctx, m, i % 2 == 0)).collect();
+        let meshes: Vec<_> = buffers.iter().map(|(_, _, b)| shadows.add_mesh_buffers(*b).unwrap()).collect();
+        for o in &scene.objects {
+            let instance = Instance {
+                mesh: meshes[o.mesh],
+                transform: o.transform,
+                casts_shadows: o.casts_shadows,
+                receives_shadows: o.receives_shadows,
+            };
+            shadows.add_instance(instance).unwrap();
+        }
+        let own = renderer_bits(ctx, &scene);
+        let (first, texels) = engine_frame(ctx, &engine, &mut shadows, &scene, 0);
+        let differ = differing(&texels, &own);
+        println!(
+            "{} meshes drawn from the engine's buffers ({} with 16-bit indices): {} bytes uploaded, {differ} texels differ",
+            meshes.len(),
+            buffers.iter().filter(|b| b.2.indices.index_type == vk::IndexType::UINT16).count(),
+            first.geometry_uploaded_bytes
+        );
+        assert_eq!(differ, 0, "shadow maps of meshes drawn from the engine's buffers");
+        assert_eq!(first.submissions, 0, "umbra submitted inside record");
+        let (second, again) = engine_frame(ctx, &engine, &mut shadows, &scene, 1);
+        assert_eq!((second.geometry_uploaded_bytes, second.memory_allocations), (0, 0), "second frame");
+        assert_eq!(differing(&again, &own), 0, "second frame");
+        // A light that builds volumes on the CPU cannot use them: a typed error naming it.
+        scene.lights[0].technique = Technique::ShadowVolume;
+        let rec = ctx.begin_commands("refused frame").unwrap();
+        let err = shadows.record(rec.raw(), &inputs(&engine, &scene, 2)).map(|_| ()).unwrap_err().to_string();
+        println!("{err}");
+        assert!(err.starts_with("FrameInputs::lights[0].technique: ShadowVolume builds shadows"), "{err}");
+        drop(rec);
+        drop(shadows);
+        drop(buffers);
     });
 }
 

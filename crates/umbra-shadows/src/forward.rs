@@ -6,7 +6,7 @@
 //! sees bit-identical depths. Faces are not culled: open meshes show their inside, lit from
 //! that side. The shadow filter and out-of-frustum policy are specialization constants.
 
-use crate::gpu_scene::{self, DrawPush, GpuScene};
+use crate::gpu_scene::{self, Bound, DrawPush, GpuScene};
 use crate::shadow_map::ShadowMapSettings;
 use crate::timing::PassLog;
 use crate::RenderResult;
@@ -209,6 +209,7 @@ pub(crate) fn surface_pass_desc<'a>(
     desc.specialization = specialization;
     desc.vertex_stride = gpu_scene::VERTEX_STRIDE;
     desc.vertex_attributes = &gpu_scene::VERTEX_ATTRIBUTES;
+    desc.vertex_streams = true;
     desc.cull = vk::CullModeFlags::NONE;
     desc.depth = DepthState { write: false, compare: vk::CompareOp::EQUAL, ..DepthState::TEST_AND_WRITE };
     desc.depth_format = depth_format;
@@ -225,15 +226,12 @@ pub(crate) fn draw_objects<'a>(
     log: &mut PassLog,
 ) {
     rec.bind_descriptor_set(layout, 0, &gpu.frame.set);
-    rec.bind_vertex_buffer(&gpu.geometry.vertices);
-    rec.bind_index_buffer(&gpu.geometry.indices);
+    let mut bound = Bound::Nothing;
     for (i, o) in scene.objects.iter().enumerate() {
-        let Some(m) = gpu.geometry.meshes.get(o.mesh) else { continue };
-        if m.index_count == 0 {
+        if gpu.geometry.drawable(o.mesh).is_none() {
             continue;
         }
         rec.push_constants(layout, &DrawPush { object: i as u32, view: light });
-        rec.draw_indexed(m.index_count, m.first_index, m.vertex_offset);
-        log.count_draw(u64::from(m.index_count / 3));
+        log.count_draw(gpu.geometry.draw(rec, o.mesh, 2, &mut bound));
     }
 }

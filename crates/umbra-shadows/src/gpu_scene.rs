@@ -2,6 +2,7 @@
 //! light storage buffers, the frame uniforms, and the descriptor set that binds them.
 //! Layouts mirror `shaders-glsl/common/scene.glsl`.
 
+use crate::shadows::MeshBuffers;
 use crate::streams::Stream;
 use crate::{RenderError, RenderResult};
 use bytemuck::{Pod, Zeroable};
@@ -10,7 +11,7 @@ use std::sync::Arc;
 use umbra_scene::{Mesh, Scene};
 use umbra_vk::{
     vk, Binding, Buffer, BufferDesc, Capabilities, Context, DescriptorSet, DescriptorSetLayout, Limit, Recorder,
-    Resource, VertexAttribute,
+    Resource, VertexAttribute, VertexStreamBinding,
 };
 
 /// Interleaved vertex: position then normal.
@@ -21,10 +22,12 @@ pub(crate) struct Vertex {
     normal: [f32; 3],
 }
 
-/// Vertex layout of [`Vertex`] at binding 0.
+/// The surface pipelines' vertex input ([`umbra_vk::GraphicsPipelineDesc::vertex_streams`]):
+/// the position at binding 0, the normal at binding 1, each where its binding starts, so that
+/// umbra's interleaved [`Vertex`] buffer and an engine's buffers are bound alike.
 pub(crate) const VERTEX_ATTRIBUTES: [VertexAttribute; 2] = [
     VertexAttribute { location: 0, format: vk::Format::R32G32B32_SFLOAT, offset: 0 },
-    VertexAttribute { location: 1, format: vk::Format::R32G32B32_SFLOAT, offset: 12 },
+    VertexAttribute { location: 1, format: vk::Format::R32G32B32_SFLOAT, offset: 0 },
 ];
 
 /// Bytes per vertex.
@@ -85,12 +88,22 @@ pub(crate) struct DrawPush {
     pub view: u32,
 }
 
-/// Where one mesh's indices and vertices sit in the shared buffers.
+/// Where one mesh's indices and vertices sit: in the shared buffers, or in the engine's.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct MeshRange {
     pub first_index: u32,
     pub index_count: u32,
     pub vertex_offset: i32,
+    /// The engine's buffers the mesh is drawn from (`Shadows::add_mesh_buffers`).
+    pub engine: Option<MeshBuffers>,
+}
+
+/// Which mesh buffers a pass has bound, so that consecutive draws rebind only on a change.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Bound {
+    Nothing,
+    Shared,
+    Engine(usize),
 }
 
 /// Every mesh of a scene packed in one vertex and one index buffer, kept from frame to frame
@@ -104,6 +117,42 @@ pub(crate) struct SceneGeometry {
 }
 
 impl SceneGeometry {
+    /// Mesh `mesh`'s range, `None` for a mesh out of range or without triangles.
+    pub fn drawable(&self, mesh: usize) -> Option<&MeshRange> {
+        self.meshes.get(mesh).filter(|m| m.index_count > 0)
+    }
+
+    /// Draws `mesh` (a [`SceneGeometry::drawable`] one) with the bound surface pipeline,
+    /// binding its buffers first unless `bound` says they are; its first `attributes`
+    /// streams (1: the position only). Returns the triangles drawn.
+    pub fn draw<'a>(&'a self, rec: &mut Recorder<'a>, mesh: usize, attributes: usize, bound: &mut Bound) -> u64 {
+        let Some(m) = self.drawable(mesh) else { return 0 };
+        let wanted = if m.engine.is_some() { Bound::Engine(mesh) } else { Bound::Shared };
+        if *bound != wanted {
+            match &m.engine {
+                Some(e) => {
+                    rec.bind_vertex_streams(&e.streams()[..attributes]);
+                    rec.bind_index_stream(e.indices.buffer, e.indices.offset, e.indices.index_type);
+                }
+                None => {
+                    let stream = |offset| VertexStreamBinding {
+                        buffer: self.vertices.raw,
+                        offset,
+                        stride: u64::from(VERTEX_STRIDE),
+                    };
+                    rec.bind_vertex_streams(&[stream(0), stream(12)][..attributes]);
+                    rec.bind_index_stream(self.indices.raw, 0, vk::IndexType::UINT32);
+                }
+            }
+            *bound = wanted;
+        }
+        match m.engine {
+            Some(_) => rec.draw_indexed(m.index_count, 0, 0),
+            None => rec.draw_indexed(m.index_count, m.first_index, m.vertex_offset),
+        }
+        u64::from(m.index_count / 3)
+    }
+
     /// Whether these buffers hold exactly `scene`'s meshes as they are now.
     fn holds(&self, scene: &Scene) -> bool {
         self.revisions.len() == scene.meshes.len()
@@ -216,9 +265,20 @@ pub(crate) struct SceneCounts {
 impl SceneCounts {
     /// The counts of `scene` (every mesh packed once), with `shadow_views` views.
     pub fn of(scene: &Scene, shadow_views: usize) -> Self {
+        Self::with_engine_meshes(scene, &[], shadow_views)
+    }
+
+    /// [`SceneCounts::of`] without the engine's meshes (`imports[i]` for mesh `i`), which
+    /// stay in the engine's buffers.
+    pub fn with_engine_meshes(scene: &Scene, imports: &[Option<MeshBuffers>], shadow_views: usize) -> Self {
+        let count = |i: usize, m: &Mesh| match imports.get(i).and_then(Option::as_ref) {
+            Some(_) => (0, 0),
+            None => (m.positions.len(), m.indices.len()),
+        };
+        let counts = || scene.meshes.iter().enumerate().map(|(i, m)| count(i, m));
         Self {
-            vertices: scene.meshes.iter().map(|m| m.positions.len()).sum(),
-            indices: scene.meshes.iter().map(|m| m.indices.len()).sum(),
+            vertices: counts().map(|c| c.0).sum(),
+            indices: counts().map(|c| c.1).sum(),
             objects: scene.objects.len(),
             lights: scene.lights.len(),
             shadow_views,
@@ -268,11 +328,13 @@ impl GpuScene {
     /// parameters (`shadows[i]` for light `i`) and every shadow view-projection. The meshes are
     /// uploaded only when `geometry` does not hold them as they are now, and `frame`'s buffers
     /// (the frame slot's, from its last frame) are rewritten where they are large enough.
+    /// Mesh `i` with `imports[i]` is drawn from the engine's buffers instead of its CPU data.
     #[allow(clippy::too_many_arguments)]
     pub fn upload(
         ctx: &Context,
         layout: &DescriptorSetLayout,
         scene: &Scene,
+        imports: &[Option<MeshBuffers>],
         view: &crate::view::View,
         shadows: &[GpuShadow],
         shadow_views: &[Mat4],
@@ -280,9 +342,9 @@ impl GpuScene {
         frame: Option<FrameBuffers>,
     ) -> RenderResult<Self> {
         // `scene` was validated by `Renderer::render`, which alone calls this.
-        check_limits(ctx.capabilities(), SceneCounts::of(scene, shadow_views.len()))?;
+        check_limits(ctx.capabilities(), SceneCounts::with_engine_meshes(scene, imports, shadow_views.len()))?;
         let (reused, previous_frame) = (geometry.filter(|g| g.holds(scene)), frame);
-        let packed = if reused.is_none() { Some(pack_meshes(&scene.meshes)) } else { None };
+        let packed = if reused.is_none() { Some(pack_meshes(&scene.meshes, imports)) } else { None };
 
         let frame = FrameUniforms {
             view_proj: view.view_proj.to_cols_array(),
@@ -375,20 +437,27 @@ fn nonempty(bytes: &[u8]) -> &[u8] {
     }
 }
 
-fn pack_meshes(meshes: &[Mesh]) -> (Vec<Vertex>, Vec<u32>, Vec<MeshRange>) {
-    let mut vertices = Vec::with_capacity(meshes.iter().map(|m| m.positions.len()).sum());
-    let mut indices = Vec::with_capacity(meshes.iter().map(|m| m.indices.len()).sum());
+/// Packs `meshes` into one vertex and one index buffer's data; mesh `i` with `imports[i]` is
+/// not packed but drawn from the engine's buffers.
+fn pack_meshes(meshes: &[Mesh], imports: &[Option<MeshBuffers>]) -> (Vec<Vertex>, Vec<u32>, Vec<MeshRange>) {
+    let import = |i: usize| imports.get(i).copied().flatten();
+    let cpu = || meshes.iter().enumerate().filter(|(i, _)| import(*i).is_none()).map(|(_, m)| m);
+    let mut vertices = Vec::with_capacity(cpu().map(|m| m.positions.len()).sum());
+    let mut indices = Vec::with_capacity(cpu().map(|m| m.indices.len()).sum());
     let mut ranges = Vec::with_capacity(meshes.len());
-    for m in meshes {
+    for (i, m) in meshes.iter().enumerate() {
+        let engine = import(i);
         ranges.push(MeshRange {
             first_index: indices.len() as u32,
-            index_count: m.indices.len() as u32,
+            index_count: engine.map_or(m.indices.len() as u32, |e| e.indices.count),
             vertex_offset: vertices.len() as i32,
+            engine,
         });
-        vertices.extend(
-            m.positions.iter().zip(&m.normals).map(|(p, n)| Vertex { position: p.to_array(), normal: n.to_array() }),
-        );
-        indices.extend_from_slice(&m.indices);
+        if engine.is_none() {
+            let vertex = |(p, n): (&Vec3, &Vec3)| Vertex { position: p.to_array(), normal: n.to_array() };
+            vertices.extend(m.positions.iter().zip(&m.normals).map(vertex));
+            indices.extend_from_slice(&m.indices);
+        }
     }
     (vertices, indices, ranges)
 }

@@ -51,8 +51,8 @@ pub use report::{FrameReport, MeshTopology, SceneSummary, TopologySource, Volume
 pub use shadow_map::{DepthBias, ShadowFilter, ShadowMapSettings};
 pub use shadow_volume::{FarPlane, HostClip, ShadowVolumeSettings, VolumeMode};
 pub use shadows::{
-    DepthTarget, FrameInputs, Instance, InstanceId, LightShadows, MeshId, RebuildReason, SampledImage, ShadowFrame,
-    ShadowMapOutput, Shadows, ShadowsDesc,
+    DepthTarget, FrameInputs, IndexStream, Instance, InstanceId, LightShadows, MeshBuffers, MeshId, RebuildReason,
+    SampledImage, ShadowFrame, ShadowMapOutput, Shadows, ShadowsDesc, VertexStream,
 };
 pub use timing::PassReport;
 pub use visibility::{VisibilityImage, VISIBILITY_FORMAT};

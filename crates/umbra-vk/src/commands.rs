@@ -16,6 +16,17 @@ use std::marker::PhantomData;
 /// How long a submission may run before umbra reports `VK_TIMEOUT` (software drivers are slow).
 const SUBMIT_TIMEOUT_NS: u64 = 300_000_000_000;
 
+/// One vertex binding of [`Recorder::bind_vertex_streams`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct VertexStreamBinding {
+    /// The buffer (with `VERTEX_BUFFER` usage).
+    pub buffer: vk::Buffer,
+    /// Byte offset of the first vertex's attribute.
+    pub offset: u64,
+    /// Bytes from one vertex to the next.
+    pub stride: u64,
+}
+
 /// A colour attachment of a rendering pass.
 #[derive(Clone, Copy, Debug)]
 pub struct ColorAttachment<'a> {
@@ -392,6 +403,28 @@ impl<'a> Recorder<'a> {
     pub fn bind_vertex_buffer(&mut self, buffer: &'a Buffer) {
         // SAFETY: alive for 'a.
         unsafe { self.device().cmd_bind_vertex_buffers(self.cmd, 0, &[buffer.raw], &[0]) };
+    }
+
+    /// Binds `streams[i]` at binding `i` for a pipeline made with
+    /// [`crate::GraphicsPipelineDesc::vertex_streams`]: each a buffer (umbra's own, or one the
+    /// engine keeps alive until the commands completed), the byte offset of its first vertex
+    /// and its stride.
+    pub fn bind_vertex_streams(&mut self, streams: &[VertexStreamBinding]) {
+        let buffers: Vec<vk::Buffer> = streams.iter().map(|s| s.buffer).collect();
+        let offsets: Vec<u64> = streams.iter().map(|s| s.offset).collect();
+        let strides: Vec<u64> = streams.iter().map(|s| s.stride).collect();
+        // SAFETY: the buffers are alive until the commands completed (umbra's are kept by the
+        // frame, the engine's by the engine: `VertexStreamBinding`); the arrays have one entry
+        // per binding.
+        unsafe { self.device().cmd_bind_vertex_buffers2(self.cmd, 0, &buffers, &offsets, None, Some(&strides)) };
+    }
+
+    /// Binds an index buffer of `index_type` from byte `offset` (a multiple of the index size):
+    /// umbra's own, or one the engine keeps alive until the commands completed.
+    pub fn bind_index_stream(&mut self, buffer: vk::Buffer, offset: u64, index_type: vk::IndexType) {
+        // SAFETY: the buffer is alive until the commands completed (the caller's guarantee);
+        // the offset's alignment is checked by the caller.
+        unsafe { self.device().cmd_bind_index_buffer(self.cmd, buffer, offset, index_type) };
     }
 
     /// Binds a `u32` index buffer.

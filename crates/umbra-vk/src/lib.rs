@@ -48,7 +48,7 @@ pub use ash::vk;
 pub use buffer::{Buffer, BufferDesc};
 pub use bytemuck;
 pub use capabilities::{device_type_name, Capabilities, DEPTH_STENCIL_PREFERENCE};
-pub use commands::{ColorAttachment, DepthAttachment, Recorder, RenderTargets};
+pub use commands::{ColorAttachment, DepthAttachment, Recorder, RenderTargets, VertexStreamBinding};
 pub use context::{Context, ContextOptions, ExternalDevice, VALIDATION_ENV};
 pub use descriptors::{Binding, DescriptorArena, DescriptorSet, DescriptorSetLayout, Resource};
 pub use error::{VkError, VkResult};

@@ -163,6 +163,12 @@ pub struct GraphicsPipelineDesc<'a> {
     pub vertex_stride: u32,
     /// Vertex attributes at binding 0.
     pub vertex_attributes: &'a [VertexAttribute],
+    /// Whether attribute `i` of `vertex_attributes` reads binding `i` (at the attribute's
+    /// offset from where the binding starts), each binding's stride set when the buffers are
+    /// bound ([`crate::Recorder::bind_vertex_streams`]; the `VERTEX_INPUT_BINDING_STRIDE`
+    /// dynamic state of Vulkan 1.3): attributes in any buffers, at any stride. `false`: every
+    /// attribute reads binding 0, `vertex_stride` apart.
+    pub vertex_streams: bool,
     /// Whether binding 0 advances per vertex or per instance (one record per instance, e.g.
     /// an edge expanded into a quad by the vertex shader).
     pub vertex_input_rate: vk::VertexInputRate,
@@ -196,6 +202,7 @@ impl<'a> GraphicsPipelineDesc<'a> {
             specialization: &[],
             vertex_stride: 0,
             vertex_attributes: &[],
+            vertex_streams: false,
             vertex_input_rate: vk::VertexInputRate::VERTEX,
             topology: vk::PrimitiveTopology::TRIANGLE_LIST,
             cull: vk::CullModeFlags::BACK,
@@ -303,17 +310,21 @@ impl GraphicsPipeline {
                     .specialization_info(&spec),
             );
         }
-        let bindings = [vk::VertexInputBindingDescription {
-            binding: 0,
-            stride: desc.vertex_stride,
-            input_rate: desc.vertex_input_rate,
-        }];
+        let streams = if desc.vertex_streams { desc.vertex_attributes.len().max(1) } else { 1 };
+        let bindings: Vec<_> = (0..streams as u32)
+            .map(|binding| vk::VertexInputBindingDescription {
+                binding,
+                stride: desc.vertex_stride,
+                input_rate: desc.vertex_input_rate,
+            })
+            .collect();
         let attributes: Vec<_> = desc
             .vertex_attributes
             .iter()
-            .map(|a| vk::VertexInputAttributeDescription {
+            .enumerate()
+            .map(|(i, a)| vk::VertexInputAttributeDescription {
                 location: a.location,
-                binding: 0,
+                binding: if desc.vertex_streams { i as u32 } else { 0 },
                 format: a.format,
                 offset: a.offset,
             })
@@ -371,6 +382,9 @@ impl GraphicsPipeline {
         }
         if desc.stencil.is_some() {
             dynamic.push(vk::DynamicState::STENCIL_REFERENCE);
+        }
+        if desc.vertex_streams {
+            dynamic.push(vk::DynamicState::VERTEX_INPUT_BINDING_STRIDE);
         }
         let dynamic_state = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic);
         let color_formats: Vec<_> = desc.color_targets.iter().map(|t| t.format).collect();

@@ -68,6 +68,9 @@ pub struct Renderer {
     meshes: MeshCache,
     /// The scene's meshes on the GPU, reused while every mesh keeps its revision.
     geometry: Option<Arc<SceneGeometry>>,
+    /// Per mesh, the engine's buffers it is copied from instead of its CPU data (engine only:
+    /// `Shadows::add_mesh_buffers`).
+    pub(crate) engine_meshes: Vec<Option<crate::shadows::MeshBuffers>>,
     /// The frame's host-written buffers, sets and query pools, kept between frames.
     slot: FrameSlot,
     /// Per light, its diagnostic readbacks (with `diagnostics`), kept while they fit.
@@ -181,6 +184,7 @@ impl Renderer {
             diagnostic_targets,
             meshes: MeshCache::default(),
             geometry: None,
+            engine_meshes: Vec::new(),
             slot,
             readbacks: Vec::new(),
             overdraw,

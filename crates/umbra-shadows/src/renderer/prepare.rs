@@ -320,6 +320,7 @@ impl Renderer {
             &self.ctx,
             &self.scene_set_layout,
             scene,
+            &self.engine_meshes,
             &view.view,
             &shadows,
             shadow_views,

@@ -3,7 +3,7 @@
 
 use super::frustum::{LightViews, MapKind};
 use super::settings::{ShadowFilter, ShadowMapSettings};
-use crate::gpu_scene::{self, DrawPush, GpuScene};
+use crate::gpu_scene::{self, Bound, DrawPush, GpuScene};
 use crate::retired::Retired;
 use crate::timing::PassLog;
 use crate::{RenderError, RenderResult};
@@ -66,6 +66,7 @@ impl ShadowMapPass {
         let mut desc = GraphicsPipelineDesc::new("shadow map depth", umbra_shaders::shadow_map::DEPTH_VERT);
         desc.vertex_stride = gpu_scene::VERTEX_STRIDE;
         desc.vertex_attributes = &gpu_scene::VERTEX_ATTRIBUTES[..1];
+        desc.vertex_streams = true;
         // Open meshes and mirrored cube faces: both sides of every triangle occlude.
         desc.cull = vk::CullModeFlags::NONE;
         desc.depth = DepthState { compare: vk::CompareOp::LESS, bias: true, ..DepthState::TEST_AND_WRITE };
@@ -199,16 +200,14 @@ impl ShadowMapPass {
             rec.bind_pipeline(&self.pipeline);
             rec.set_depth_bias(self.settings.bias.constant, bias_clamp, self.settings.effective_slope());
             rec.bind_descriptor_set(layout, 0, &gpu.frame.set);
-            rec.bind_vertex_buffer(&gpu.geometry.vertices);
-            rec.bind_index_buffer(&gpu.geometry.indices);
+            let mut bound = Bound::Nothing;
             for &object in views.casters_of(layer) {
-                let Some(m) = scene.objects.get(object).and_then(|o| gpu.geometry.meshes.get(o.mesh)) else { continue };
-                if m.index_count == 0 {
+                let Some(mesh) = scene.objects.get(object).map(|o| o.mesh) else { continue };
+                if gpu.geometry.drawable(mesh).is_none() {
                     continue;
                 }
                 rec.push_constants(layout, &DrawPush { object: object as u32, view: first_view + layer as u32 });
-                rec.draw_indexed(m.index_count, m.first_index, m.vertex_offset);
-                log.count_draw(u64::from(m.index_count / 3));
+                log.count_draw(gpu.geometry.draw(rec, mesh, 1, &mut bound));
             }
             rec.end_rendering();
         }

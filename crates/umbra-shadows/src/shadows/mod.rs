@@ -16,9 +16,11 @@
 //! into an image of umbra's own first ([`RebuildReason`]).
 
 mod inputs;
+pub(crate) mod mesh_buffers;
 mod registry;
 
 pub use inputs::{DepthTarget, FrameInputs, LightShadows, RebuildReason, SampledImage, ShadowFrame, ShadowMapOutput};
+pub use mesh_buffers::{IndexStream, MeshBuffers, VertexStream};
 pub use registry::{Instance, InstanceId, MeshId};
 
 use crate::renderer::{EngineDepth, FrameDepth, FrameSlot, Renderer, RendererDesc};
@@ -127,9 +129,29 @@ impl Shadows {
         self.registry.add_mesh(mesh)
     }
 
+    /// Registers a mesh that stays in the engine's own buffers (checked against the sizes
+    /// given: [`MeshBuffers`]). umbra never reads it on the CPU: the frame that uploads the
+    /// meshes copies it into umbra's buffers on the GPU, and only its bounds are kept. Lights
+    /// whose technique builds geometry on the CPU (shadow volumes, the hybrid, silhouette maps,
+    /// `auto`) refuse instances of it that cast shadows: a typed error from [`Shadows::record`].
+    /// The buffers must live, unchanged, while the mesh is registered.
+    pub fn add_mesh_buffers(&mut self, mesh: MeshBuffers) -> RenderResult<MeshId> {
+        mesh.validate()?;
+        let placeholder = mesh.placeholder(format!("engine mesh {}", self.registry.scene.meshes.len()))?;
+        let id = self.registry.add_mesh(placeholder)?;
+        let engine = &mut self.renderer.engine_meshes;
+        engine.resize(self.registry.scene.meshes.len(), None);
+        engine[id.0 as usize] = Some(mesh);
+        Ok(id)
+    }
+
     /// Forgets a mesh no instance draws any more.
     pub fn remove_mesh(&mut self, mesh: MeshId) -> RenderResult<()> {
-        self.registry.remove_mesh(mesh)
+        self.registry.remove_mesh(mesh)?;
+        if let Some(engine) = self.renderer.engine_meshes.get_mut(mesh.0 as usize) {
+            *engine = None;
+        }
+        Ok(())
     }
 
     /// Places a registered mesh.
@@ -218,6 +240,7 @@ impl Shadows {
                 "needs DEPTH_STENCIL_ATTACHMENT: umbra's passes test against it".into(),
             ));
         }
+        self.check_engine_meshes(inputs.lights)?;
         let hybrid = inputs.lights.iter().position(|l| matches!(l.technique, Technique::Hybrid | Technique::Auto));
         if let (Some(i), false) = (hybrid, d.usage.contains(vk::ImageUsageFlags::TRANSFER_SRC)) {
             let why = format!(
@@ -227,6 +250,30 @@ impl Shadows {
             return Err(invalid(field("depth.usage"), why));
         }
         Ok((Ok(state), inputs.proj))
+    }
+
+    /// A typed error when a light whose technique builds geometry from the casters' triangles
+    /// on the CPU would need a mesh only the engine's buffers hold.
+    fn check_engine_meshes(&self, lights: &[umbra_scene::Light]) -> RenderResult<()> {
+        let engine = &self.renderer.engine_meshes;
+        let scene = &self.registry.scene;
+        let Some(o) = scene.objects.iter().find(|o| o.casts_shadows && engine.get(o.mesh).is_some_and(Option::is_some))
+        else {
+            return Ok(());
+        };
+        let on_cpu = |t: Technique| t == Technique::Auto || (needs(t).volumes.is_some() || needs(t).silhouette);
+        match lights.iter().position(|l| on_cpu(l.technique)) {
+            None => Ok(()),
+            Some(i) => Err(invalid(
+                format!("FrameInputs::lights[{i}].technique"),
+                format!(
+                    "{:?} builds shadows from the casters' triangles on the CPU, but {} casts shadows with a mesh \
+                     registered by add_mesh_buffers, which umbra never reads on the CPU: register that mesh with \
+                     add_mesh, or shadow this light with ShadowMap",
+                    lights[i].technique, o.name
+                ),
+            )),
+        }
     }
 
     /// What the engine gets of one recorded light.
