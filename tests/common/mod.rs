@@ -14,16 +14,32 @@ use umbra::vk::{Context, ContextOptions};
 pub fn with_context<R>(body: impl FnOnce(&Context) -> R) -> R {
     let _ = env_logger::builder().is_test(true).filter_level(log::LevelFilter::Warn).try_init();
     let options = ContextOptions { validation: true, ..ContextOptions::from_env() };
-    let ctx = Context::with_options(&options).expect("Vulkan context (run ci/setup.sh)");
+    let ctx = {
+        let _one_at_a_time = lifecycle();
+        Context::with_options(&options).expect("Vulkan context (run ci/setup.sh)")
+    };
     let counter = ctx.validation();
     let out = body(&ctx);
-    drop(ctx);
+    {
+        let _one_at_a_time = lifecycle();
+        drop(ctx);
+    }
     assert_eq!(
         (counter.errors(), counter.warnings()),
         (0, 0),
         "validation layer reported (errors, warnings); messages are in the log above"
     );
     out
+}
+
+/// Held while a test creates or destroys its context: instances and devices are made and
+/// torn down one at a time in a test process, while the tests' frames still run in parallel.
+/// (A CI run once lost the first two tests of a file, which create their contexts at the same
+/// moment, to a hang on lavapipe that never reproduced; the driver and the layers are not
+/// exercised concurrently there any more.)
+fn lifecycle() -> std::sync::MutexGuard<'static, ()> {
+    static LIFECYCLE: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    LIFECYCLE.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
 }
 
 /// The repository's `assets/` folder, or `UMBRA_ASSETS`.
