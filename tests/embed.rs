@@ -147,19 +147,7 @@ impl Engine {
 /// Registers `scene`'s meshes and objects, in order.
 fn register(shadows: &mut Shadows, scene: &Scene) -> Vec<InstanceId> {
     let meshes: Vec<_> = scene.meshes.iter().map(|m| shadows.add_mesh(m.clone()).unwrap()).collect();
-    scene
-        .objects
-        .iter()
-        .map(|o| {
-            let instance = Instance {
-                mesh: meshes[o.mesh],
-                transform: o.transform,
-                casts_shadows: o.casts_shadows,
-                receives_shadows: o.receives_shadows,
-            };
-            shadows.add_instance(instance).unwrap()
-        })
-        .collect()
+    scene.objects.iter().map(|o| shadows.add_instance(Instance::of_object(o, meshes[o.mesh])).unwrap()).collect()
 }
 
 fn inputs<'a>(engine: &Engine, scene: &'a Scene, frame_index: u64) -> FrameInputs<'a> {
@@ -325,13 +313,7 @@ fn a_mesh_added_between_frames_is_uploaded_inside_the_engines_frame() {
         assert!(first.geometry_uploaded_bytes > 0, "the first frame uploads the meshes");
         assert_eq!(differing(&texels, &renderer_bits(ctx, &start)), 0, "before the mesh is added");
         let mesh = shadows.add_mesh(full.meshes.last().unwrap().clone()).unwrap();
-        let instance = Instance {
-            mesh,
-            transform: added.transform,
-            casts_shadows: added.casts_shadows,
-            receives_shadows: added.receives_shadows,
-        };
-        shadows.add_instance(instance).unwrap();
+        shadows.add_instance(Instance::of_object(&added, mesh)).unwrap();
         let (frame, texels) = engine_frame(ctx, &engine, &mut shadows, &full, 1);
         assert!(frame.geometry_uploaded_bytes > 0, "the new mesh is uploaded");
         assert_eq!((first.submissions, frame.submissions), (0, 0), "umbra submitted inside record");
@@ -397,13 +379,7 @@ fn meshes_in_the_engines_own_buffers_give_the_same_shadow_maps() {
         let buffers: Vec<_> = scene.meshes.iter().enumerate().map(|(i, m)| engine_mesh(ctx, m, i % 2 == 0)).collect();
         let meshes: Vec<_> = buffers.iter().map(|(_, _, b)| shadows.add_mesh_buffers(*b).unwrap()).collect();
         for o in &scene.objects {
-            let instance = Instance {
-                mesh: meshes[o.mesh],
-                transform: o.transform,
-                casts_shadows: o.casts_shadows,
-                receives_shadows: o.receives_shadows,
-            };
-            shadows.add_instance(instance).unwrap();
+            shadows.add_instance(Instance::of_object(o, meshes[o.mesh])).unwrap();
         }
         let own = renderer_bits(ctx, &scene);
         let (first, texels) = engine_frame(ctx, &engine, &mut shadows, &scene, 0);

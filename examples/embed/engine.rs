@@ -5,7 +5,7 @@
 
 use glam::{Mat4, Vec4};
 use umbra::scene::Scene;
-use umbra::shadows::{DepthTarget, LightShadows};
+use umbra::shadows::{DepthTarget, IndexStream, LightShadows, MeshBuffers, VertexStream};
 use umbra::vk::{
     vk, Binding, Buffer, BufferDesc, ColorAttachment, ColorTarget, Context, DepthAttachment, DepthState, DescriptorSet,
     DescriptorSetLayout, GraphicsPipeline, GraphicsPipelineDesc, Image, ImageDesc, ImageState, PipelineLayout,
@@ -132,6 +132,32 @@ impl Engine {
             extent: vk::Extent2D { width: self.width, height: self.height },
             samples: vk::SampleCountFlags::TYPE_1,
             layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+        }
+    }
+
+    /// Mesh `mesh` as it lies in the engine's buffers (positions and normals interleaved 24
+    /// bytes apart, 32-bit indices), for umbra to draw in place; `bounds` is its box.
+    pub fn mesh_buffers(&self, mesh: usize, bounds: umbra::scene::Aabb) -> MeshBuffers {
+        let (vertices, indices, count) = &self.meshes[mesh];
+        let stream = |offset| VertexStream {
+            buffer: vertices.raw,
+            buffer_size: vertices.desc.size,
+            offset,
+            stride: 24,
+            format: vk::Format::R32G32B32_SFLOAT,
+        };
+        MeshBuffers {
+            positions: stream(0),
+            normals: stream(12),
+            vertex_count: (vertices.desc.size / 24) as u32,
+            indices: IndexStream {
+                buffer: indices.raw,
+                buffer_size: indices.desc.size,
+                offset: 0,
+                index_type: vk::IndexType::UINT32,
+                count: *count,
+            },
+            bounds,
         }
     }
 

@@ -140,11 +140,13 @@ impl Run {
             frames_in_flight: args.frames_in_flight,
         };
         let mut shadows = Shadows::new(&ctx, desc)?;
-        let ids = register(&mut shadows, &scene)?;
+        let ids = register(&mut shadows, &scene, &engine)?;
         let device_name = &ctx.capabilities().device_name;
+        let in_place = (0..scene.meshes.len()).filter(|&m| !casts(&scene, m)).count();
         println!(
-            "engine on {device_name}: {} objects, {} lights, {width}x{height}",
+            "engine on {device_name}: {} objects, {in_place} of {} meshes drawn by umbra from the engine's buffers, {} lights, {width}x{height}",
             scene.objects.len(),
+            scene.meshes.len(),
             scene.lights.len()
         );
         let moving = (scene.objects.len() - 1, scene.objects[scene.objects.len() - 1].transform);
@@ -205,20 +207,26 @@ impl Drop for Run {
     }
 }
 
-/// Registers every mesh and object of `scene` with umbra.
-fn register(shadows: &mut Shadows, scene: &Scene) -> anyhow::Result<Vec<InstanceId>> {
-    let meshes = scene.meshes.iter().map(|m| shadows.add_mesh(m.clone())).collect::<Result<Vec<_>, _>>()?;
+/// Registers every mesh and object of `scene` with umbra: a mesh that casts shadows from its
+/// CPU data (volumes and the hybrid build geometry from it), one that only receives them from
+/// the engine's own buffers, which umbra draws in place.
+fn register(shadows: &mut Shadows, scene: &Scene, engine: &Engine) -> anyhow::Result<Vec<InstanceId>> {
+    let meshes = (scene.meshes.iter().enumerate())
+        .map(|(i, m)| match casts(scene, i) {
+            true => shadows.add_mesh(m.clone()),
+            false => shadows.add_mesh_buffers(engine.mesh_buffers(i, m.bounds())),
+        })
+        .collect::<Result<Vec<_>, _>>()?;
     let mut ids = Vec::new();
     for o in &scene.objects {
-        let instance = Instance {
-            mesh: meshes[o.mesh],
-            transform: o.transform,
-            casts_shadows: o.casts_shadows,
-            receives_shadows: o.receives_shadows,
-        };
-        ids.push(shadows.add_instance(instance)?);
+        ids.push(shadows.add_instance(Instance::of_object(o, meshes[o.mesh]))?);
     }
     Ok(ids)
+}
+
+/// Whether an object drawing mesh `mesh` casts shadows.
+fn casts(scene: &Scene, mesh: usize) -> bool {
+    scene.objects.iter().any(|o| o.mesh == mesh && o.casts_shadows)
 }
 
 /// What umbra's passes cost on the GPU per light in the slot's previous frame (and what no

@@ -33,6 +33,16 @@ impl Instance {
     pub fn new(mesh: MeshId, transform: Mat4) -> Self {
         Self { mesh, transform, casts_shadows: true, receives_shadows: true }
     }
+
+    /// A scene object's placement and flags, drawing `mesh` (its mesh as registered).
+    pub fn of_object(object: &Object, mesh: MeshId) -> Self {
+        Self {
+            mesh,
+            transform: object.transform,
+            casts_shadows: object.casts_shadows,
+            receives_shadows: object.receives_shadows,
+        }
+    }
 }
 
 /// The scene umbra records from, and the ids that name its parts.
