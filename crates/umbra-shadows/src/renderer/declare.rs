@@ -1,13 +1,14 @@
-//! The frame's passes, declared in order into the frame graph: first the mesh upload (when a
-//! mesh changed) and the lights' views (shadow maps, silhouette points, blocker culling), then `ambient`, the optional `g-buffer`, every
+//! The frame's passes, each declared into the frame graph (`record.rs` puts them in order):
+//! the mesh upload (when a mesh changed) and the lights' views (shadow maps, silhouette points,
+//! blocker culling); the renderer's own surfaces (`ambient`, the optional `g-buffer`); every
 //! recorded light's shadows (its technique's passes writing its visibility image, plus the
-//! diagnostics asked for), every recorded light's lighting, and `readback`. Each pass names the images it uses; the graph emits the barriers, labels and
-//! timestamps (`crate::frame`).
+//! diagnostics asked for); the renderer's own lights and `readback`. Each pass names the
+//! images it uses; the graph emits the barriers, labels and timestamps (`crate::frame`).
 
-use super::lights::{LightBindings, LightFrame, LightQueries, LightSets};
+use super::lights::{LightBindings, LightFrame, LightQueries};
 use super::Renderer;
 use crate::forward::PassBounds;
-use crate::frame::{FrameGraph, PassId, QueryId, Stage, StageResults, Use};
+use crate::frame::{PassId, QueryId, Stage, Use};
 use crate::gpu_scene::GpuScene;
 use crate::hybrid::cull::CullingPlan;
 use crate::hybrid::frame::{self as hybrid_frame, HybridQueries};
@@ -15,7 +16,6 @@ use crate::hybrid::pass::HybridLight;
 use crate::plan::{tally, CullReason};
 use crate::shadow_volume::build::LightVolumes;
 use crate::shadow_volume::pass::VolumeBindings;
-use crate::streams::Streams;
 use crate::RenderResult;
 use umbra_scene::Scene;
 use umbra_vk::{Buffer, ColorAttachment, DepthAttachment, DescriptorSet, Image, ImageState, Recorder, RenderTargets};
@@ -39,63 +39,7 @@ pub(super) struct FrameInputs<'a> {
     pub volumes: Option<&'a Buffer>,
 }
 
-/// What running a frame's passes returned.
-pub(super) struct FrameRun {
-    /// Every submission's results, in order (the last holds the lighting passes' queries).
-    pub stages: Vec<StageResults>,
-    /// Per light, its queries in the last stage.
-    pub queries: Vec<LightQueries>,
-    /// Whether a pass drew into the overdraw image.
-    pub overdraw: bool,
-}
-
 impl Renderer {
-    /// Declares and runs the frame: the views, then (after a submission that reads blocker
-    /// culling's queries back and drops the hidden casters, when there are boxes) the lighting.
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn run_frame(
-        &self,
-        graph: &mut FrameGraph,
-        scene: &Scene,
-        gpu: &GpuScene,
-        lights: &mut [LightFrame],
-        sets: &[LightSets],
-        streams: &Streams,
-        mut culling: CullingPlan,
-    ) -> RenderResult<FrameRun> {
-        graph.begin_frame();
-        let bindings = &self.bindings(sets);
-        let (edges, volumes) = (streams.edges.filled(), streams.volumes.filled());
-        let mut stages = Vec::new();
-        let boxes = streams.blockers.filled().filter(|_| !culling.boxes.is_empty());
-        if let Some(boxes) = boxes {
-            let depth = &self.own()?.depth;
-            let f = FrameInputs { scene, gpu, lights, bindings, depth, rebuild: None, edges, volumes };
-            let mut views = graph.stage("frame: views and blocker culling");
-            self.declare_views(&mut views, f)?;
-            let first = self.declare_culling(&mut views, f, &culling, boxes)?;
-            let done = graph.run(&self.ctx, views)?;
-            let visible: Vec<u64> =
-                (0..culling.boxes.len() as u32).map(|i| done.samples(QueryId(first.0 + i))).collect();
-            for (l, caster) in culling.apply(&visible) {
-                if let Some(v) = lights[l].volumes.as_mut() {
-                    v.casters.remove(caster);
-                }
-            }
-            stages.push(done);
-        }
-        self.settle_volumes(scene, lights, &culling);
-        let depth = &self.own()?.depth;
-        let f = FrameInputs { scene, gpu, lights, bindings, depth, rebuild: None, edges, volumes };
-        let mut stage = graph.stage("frame");
-        if stages.is_empty() {
-            self.declare_views(&mut stage, f)?;
-        }
-        let (queries, overdraw) = self.declare_lighting(&mut stage, f)?;
-        stages.push(graph.run(&self.ctx, stage)?);
-        Ok(FrameRun { stages, queries, overdraw })
-    }
-
     /// Every light's volumes once blocker culling (if any) dropped casters: their stencil
     /// batches and report.
     pub(super) fn settle_volumes(&self, scene: &Scene, lights: &mut [LightFrame], culling: &CullingPlan) {
@@ -167,7 +111,7 @@ impl Renderer {
 
     /// Blocker culling: every hybrid light's boxes against its map, a query per box (in
     /// `culling.boxes` order, from the returned query on).
-    fn declare_culling<'a>(
+    pub(super) fn declare_culling<'a>(
         &'a self,
         stage: &mut Stage<'a>,
         f: FrameInputs<'a>,
@@ -196,14 +140,9 @@ impl Renderer {
         Ok(first)
     }
 
-    /// `ambient`, `g-buffer`, every recorded light's shadows, then every recorded light's
-    /// lighting, `readback`; returns each light's queries and whether the overdraw image was
-    /// drawn.
-    fn declare_lighting<'a>(
-        &'a self,
-        stage: &mut Stage<'a>,
-        f: FrameInputs<'a>,
-    ) -> RenderResult<(Vec<LightQueries>, bool)> {
+    /// The renderer's own surfaces, before any light's shadows test them: `ambient` (its
+    /// depth and the ambient term) and the optional `g-buffer`. An engine draws its own.
+    pub(super) fn declare_surfaces<'a>(&'a self, stage: &mut Stage<'a>, f: FrameInputs<'a>) -> RenderResult<()> {
         let (color, depth) = (&self.own()?.color, f.depth);
         stage.pass(PassId::Ambient, &[Use::Image(color, Color), Use::Image(depth, Depth)], move |cx| {
             let bg = f.scene.background;
@@ -220,12 +159,22 @@ impl Renderer {
                 Ok(())
             });
         }
-        let (queries, overdraw) = self.declare_shadows(stage, f)?;
+        Ok(())
+    }
+
+    /// The renderer's own lights, after every light's shadows (`queries`, from
+    /// `declare_shadows`): every recorded light's lighting, then `readback`.
+    pub(super) fn declare_lights<'a>(
+        &'a self,
+        stage: &mut Stage<'a>,
+        f: FrameInputs<'a>,
+        queries: &[LightQueries],
+        overdraw: bool,
+    ) -> RenderResult<()> {
         for light in f.lights.iter().filter(|l| l.plan.recorded && f.bindings[l.light()].shadow_set.is_some()) {
             self.declare_light(stage, f, light, queries[light.light()].shadowed)?;
         }
-        self.declare_readback(stage, overdraw)?;
-        Ok((queries, overdraw))
+        self.declare_readback(stage, overdraw)
     }
 
     /// Every recorded light's shadows, before any light is lit: its visibility image (and its

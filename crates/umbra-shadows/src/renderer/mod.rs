@@ -1,11 +1,13 @@
 //! The renderer: records a frame's passes into a headless target and reads the colour back.
 //!
-//! [`Renderer::render`] is the frame's table of contents: check the input, plan (`crate::plan`),
-//! prepare each light's technique on the CPU (`prepare.rs`), upload what changed and bind each
-//! light's maps (`bind.rs`), declare the passes into the frame graph and run them
-//! (`declare.rs`, `crate::frame`), then read back and report (`results.rs`). Every pass is a
-//! debug label with timestamps around it, emitted by the frame graph; the [`FrameReport`]
-//! lists them by name and the graph keys them by [`crate::frame::PassId`].
+//! [`Renderer::render`] checks the input, records the frame through [`Renderer::frame`]
+//! (`record.rs`), the same frame [`crate::Shadows::record`] records into an engine's command
+//! buffer — plan (`crate::plan`), prepare each light's technique on the CPU (`prepare.rs`),
+//! upload what changed and bind each light's maps (`bind.rs`), declare the passes into the
+//! frame graph (`declare.rs`, `crate::frame`) — runs it, then reads back and reports
+//! (`results.rs`). Every pass is a debug label with timestamps around it, emitted by the frame
+//! graph; the [`FrameReport`] lists them by name and the graph keys them by
+//! [`crate::frame::PassId`].
 
 mod bind;
 mod declare;
@@ -13,6 +15,7 @@ mod desc;
 mod engine;
 mod lights;
 mod prepare;
+mod record;
 mod results;
 mod slot;
 
@@ -36,6 +39,7 @@ use crate::visibility::{self, VisibilityPass};
 use crate::RenderResult;
 pub(crate) use desc::depth_desc;
 use desc::{check_frame_size, frame_target};
+use record::Output;
 use std::sync::Arc;
 use std::time::Instant;
 use umbra_scene::Scene;
@@ -217,47 +221,25 @@ impl Renderer {
         //    more objects or lights than the device's buffers can bind.
         scene.validate()?;
         gpu_scene::check_limits(self.ctx.capabilities(), SceneCounts::of(scene, 0))?;
-        // 2. Plan: per light, what to record and which casters enter its passes (the last
-        //    frame completed: what it retired goes).
-        self.slot.begin();
-        let view = self.frame_view(scene);
-        let mut lights = self.plan(scene, &view)?;
-        // 3. Prepare each light's technique on the CPU: map views and maps, silhouette edges,
-        //    volumes, blocker boxes (welded connectivity cached per mesh revision).
-        let adjacency = self.meshes.adjacency(scene)?;
-        let mut streams = std::mem::take(&mut self.slot.streams);
-        let shadow_views = self.prepare_maps(scene, &view, &adjacency, &mut lights, &mut streams)?;
-        self.prepare_volumes(scene, &view, &adjacency, &mut lights, &mut streams)?;
-        let culling = self.plan_culling(scene, &view, &lights, &mut streams)?;
-        // 4. Upload what changed; bind each light's maps; make the readbacks.
-        let gpu = self.upload(scene, &view, &adjacency, &lights, &shadow_views)?;
-        let sets = self.bind(&lights)?;
-        // 5. Declare the passes and run them: one submission, two with blocker culling. The
-        //    readback is poisoned first so that a copy that never happened cannot pass for a frame.
-        self.own()?;
-        if let Some(readback) = self.own.as_mut().and_then(|own| own.readback.as_mut()) {
+        // 2. Its own targets, the readback poisoned so that a copy that never happened cannot
+        //    pass for a frame.
+        if let Some(readback) = self.own_mut()?.readback.as_mut() {
             readback.fill_host(0xCD)?;
         }
-        let prepared = started.elapsed();
-        let mut graph = std::mem::take(&mut self.slot.graph);
-        let running = Instant::now();
-        let frame = self.run_frame(&mut graph, scene, &gpu, &mut lights, &sets, &streams, culling);
-        let ran_ms = running.elapsed().as_secs_f64() * 1e3;
-        self.slot.graph = graph;
-        let ran = frame?;
-        let geometry_uploaded_bytes = gpu.geometry_uploaded;
-        // 6. Read back and report.
-        let (submit_wait_ms, submissions) = (ran.stages.iter().map(|s| s.submit_wait_ms).sum(), ran.stages.len());
-        let mut frame = self.finish(scene, &adjacency, lights, &sets, ran)?;
-        frame.report.cpu_prepare_ms = prepared.as_secs_f64() * 1e3;
+        // 3. The frame (`record.rs`): planned, prepared, uploaded, bound, declared and run in
+        //    one submission (two with blocker culling).
+        let view = self.frame_view(scene);
+        let r = self.frame(scene, view, Output::Own)?;
+        // 4. Read back and report.
+        let stages = &r.run.stages;
+        let (submit_wait_ms, submissions) = (stages.iter().map(|s| s.submit_wait_ms).sum(), stages.len());
+        let mut frame = self.finish(scene, &r.adjacency, r.lights, &r.sets, r.run)?;
+        frame.report.cpu_prepare_ms = (r.prepared - started).as_secs_f64() * 1e3;
         frame.report.cpu_submit_wait_ms = submit_wait_ms;
-        frame.report.cpu_record_ms = (ran_ms - submit_wait_ms).max(0.0);
+        frame.report.cpu_record_ms = (r.run_ms - submit_wait_ms).max(0.0);
         frame.report.submissions = submissions as u64;
-        // Kept for the next frame: its meshes, per-frame buffers and vertex streams are reused.
-        self.geometry = Some(self.slot.keep(gpu));
-        self.slot.streams = streams;
         frame.report.cpu_frame_ms = started.elapsed().as_secs_f64() * 1e3;
-        frame.report.geometry_uploaded_bytes = geometry_uploaded_bytes;
+        frame.report.geometry_uploaded_bytes = r.geometry_uploaded;
         frame.report.memory_allocations = self.ctx.memory_allocations() - allocations_before;
         Ok(frame)
     }
@@ -297,9 +279,17 @@ impl Renderer {
 
     /// Its own targets; an error recording into an engine's frame, which has none.
     fn own(&self) -> RenderResult<&OwnTargets> {
-        self.own.as_ref().ok_or_else(|| crate::RenderError::InvalidInput {
-            field: "Renderer::render".into(),
-            why: "this renderer records into an engine's frame (Shadows::record) and has no targets of its own".into(),
-        })
+        self.own.as_ref().ok_or_else(no_targets)
+    }
+
+    fn own_mut(&mut self) -> RenderResult<&mut OwnTargets> {
+        self.own.as_mut().ok_or_else(no_targets)
+    }
+}
+
+fn no_targets() -> crate::RenderError {
+    crate::RenderError::InvalidInput {
+        field: "Renderer::render".into(),
+        why: "this renderer records into an engine's frame (Shadows::record) and has no targets of its own".into(),
     }
 }

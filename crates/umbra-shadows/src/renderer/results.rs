@@ -1,8 +1,8 @@
 //! The end of a frame: the pixels and views read back, each light's counts decoded from its
 //! queries and readbacks, and the frame report.
 
-use super::declare::FrameRun;
 use super::lights::{LightBindings, LightFrame, LightSets};
+use super::record::FrameRun;
 use super::{Frame, Renderer};
 use crate::diagnostics::{LightDiagnostics, PixelClass};
 use crate::frame::PassId;
