@@ -1,8 +1,9 @@
-//! The `umbra-bench` command line: `sweep`, `poster`, `hard-cases`, `fingerprint` and `frame-cost`.
+//! The `umbra-bench` command line: `sweep`, `poster`, `hard-cases`, `fingerprint`, `frame-cost` and
+//! `bvh`.
 
 use crate::record::{Record, Results, CSV_HEADER};
 use crate::sweep::{self, Plan};
-use crate::{fingerprint, frame_cost, hard_cases, plots, poster, scenes, summary, BenchError, BenchResult};
+use crate::{bvh, fingerprint, frame_cost, hard_cases, plots, poster, scenes, summary, BenchError, BenchResult};
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
@@ -31,6 +32,9 @@ enum Command {
     /// Render many frames with one renderer and print the host cost per frame (prepare,
     /// record, submit-wait), early and late, with allocations and submissions per frame.
     FrameCost(frame_cost::FrameCostArgs),
+    /// Build ray-traced shadows' two-level BVH per scene and walk every pixel's shadow rays on
+    /// the host: build and rebuild times, memory, depth, nodes and triangles per ray.
+    Bvh(bvh::BvhArgs),
 }
 
 #[derive(clap::Args, Debug)]
@@ -91,6 +95,7 @@ pub fn main() {
         Command::HardCases(args) => hard_cases::run(&args),
         Command::Fingerprint(args) => fingerprint::run(&args),
         Command::FrameCost(args) => frame_cost::run(&args),
+        Command::Bvh(args) => bvh::run(&args),
     };
     if let Err(e) = result {
         eprintln!("umbra-bench: {e}");

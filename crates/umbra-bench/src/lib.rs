@@ -32,6 +32,7 @@
 
 #![warn(missing_docs)]
 
+pub mod bvh;
 pub mod cli;
 mod error;
 pub mod fingerprint;

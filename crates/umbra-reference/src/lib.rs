@@ -32,5 +32,5 @@ pub use bvh::{Hit, SceneBvh, SceneTriangle};
 pub use compare::{edge_distance, error_image, save_error_png, Comparison, WrongPixels, EDGE_BAND_PX};
 pub use distance::distance_to_seeds;
 pub use error::{ReferenceError, ReferenceResult};
-pub use mask::{ray_cast_image, shadow_blockers, shadow_state, towards, ShadowMask, RAY_OFFSET_SCALE};
+pub use mask::{ray_cast_image, shadow_blockers, shadow_ray, shadow_state, towards, ShadowMask, RAY_OFFSET_SCALE};
 pub use surfaces::{pixel_ray, Surface, SurfaceImage};

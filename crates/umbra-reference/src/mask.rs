@@ -107,9 +107,10 @@ pub fn shadow_blockers(light: &Light, bvh: &SceneBvh, s: &Surface) -> Option<Vec
     Some(bvh.blockers(origin, dir, t_max))
 }
 
-/// The shadow ray of `s` (origin offset along the normal, unit direction, length), or `None`
-/// where `light` does not reach it.
-fn shadow_ray(light: &Light, s: &Surface) -> Option<(Vec3, Vec3, f32)> {
+/// The shadow ray of `s` (origin offset along the normal by [`RAY_OFFSET_SCALE`]·|p|, unit
+/// direction, length: infinite for a directional light), or `None` where `light` does not
+/// reach it.
+pub fn shadow_ray(light: &Light, s: &Surface) -> Option<(Vec3, Vec3, f32)> {
     let (dir, distance) = towards(light.position, s.position);
     if !reaches(light, s, dir) {
         return None;

@@ -23,6 +23,7 @@ mod gpu_scene;
 pub mod hybrid;
 mod mesh_cache;
 pub mod plan;
+pub mod ray_traced;
 mod reach;
 mod renderer;
 mod report;

@@ -1,0 +1,163 @@
+//! The top level: one instance per shadow-casting object over its mesh's BVH, under a BVH of
+//! their world boxes. A moving object rebuilds this level only; a mesh whose revision changed
+//! rebuilds its own BVH.
+
+use super::bvh::{flatten_build, transformed, BvhNode, MeshBvh};
+use bytemuck::{Pod, Zeroable};
+use glam::Mat4;
+use std::sync::Arc;
+use std::time::Instant;
+use umbra_scene::Scene;
+
+/// One instance as a traversal shader reads it (`std430`): the world-to-object transform's
+/// first three rows and where its mesh's nodes and triangles start in the scene's arrays.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+#[repr(C)]
+pub struct BvhInstance {
+    /// Rows 0 to 2 of the world-to-object matrix (row 3 is `0 0 0 1`).
+    pub world_to_object: [[f32; 4]; 3],
+    /// Index of its mesh's root in the scene's bottom-level nodes.
+    pub node_offset: u32,
+    /// Index of its mesh's first triangle in the scene's triangles.
+    pub triangle_offset: u32,
+    /// Index of the object in `scene.objects`.
+    pub object: u32,
+    /// Padding to 16 bytes.
+    pub pad: u32,
+}
+
+/// What building and updating a [`RayScene`] cost.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RaySceneStats {
+    /// Bottom-level (mesh) BVHs built so far.
+    pub mesh_builds: u64,
+    /// Top-level BVHs built so far.
+    pub top_builds: u64,
+    /// Wall time of the last update's mesh builds, in milliseconds.
+    pub mesh_build_ms: f64,
+    /// Wall time of the last update's top-level build, in milliseconds.
+    pub top_build_ms: f64,
+}
+
+/// Per mesh, its BVH and the revision it was built from.
+struct CachedMesh {
+    revision: u64,
+    triangles: usize,
+    bvh: Arc<MeshBvh>,
+}
+
+/// The scene's casters as a two-level BVH ([module documentation](super)).
+#[derive(Default)]
+pub struct RayScene {
+    meshes: Vec<Option<CachedMesh>>,
+    /// Top-level nodes over `instances` (leaves index `instances`).
+    pub top: Vec<BvhNode>,
+    /// The shadow-casting objects with a triangle, in top-level leaf order.
+    pub instances: Vec<BvhInstance>,
+    /// Every mesh's bottom-level nodes, one after the other (children index within their mesh).
+    pub nodes: Vec<BvhNode>,
+    /// Every mesh's triangles, one after the other, in leaf order.
+    pub triangles: Vec<super::BvhTriangle>,
+    /// The deepest of the top level and every instanced mesh's BVH, in nodes.
+    pub depth: u32,
+    /// What its builds cost.
+    pub stats: RaySceneStats,
+}
+
+impl RayScene {
+    /// The scene's casters, every BVH built.
+    pub fn build(scene: &Scene) -> Self {
+        let mut rays = Self::default();
+        rays.update(scene);
+        rays
+    }
+
+    /// Brings it up to `scene`: a mesh whose revision or triangle count changed gets a new
+    /// BVH; the top level is rebuilt over the casters' current transforms.
+    pub fn update(&mut self, scene: &Scene) {
+        let started = Instant::now();
+        self.meshes.resize_with(scene.meshes.len(), || None);
+        self.meshes.truncate(scene.meshes.len());
+        let mut rebuilt = false;
+        for (slot, mesh) in self.meshes.iter_mut().zip(&scene.meshes) {
+            let triangles = mesh.indices.len() / 3;
+            if slot.as_ref().is_some_and(|c| c.revision == mesh.revision() && c.triangles == triangles) {
+                continue;
+            }
+            *slot = Some(CachedMesh { revision: mesh.revision(), triangles, bvh: Arc::new(MeshBvh::build(mesh)) });
+            self.stats.mesh_builds += 1;
+            rebuilt = true;
+        }
+        if rebuilt {
+            self.stats.mesh_build_ms = started.elapsed().as_secs_f64() * 1e3;
+            self.concatenate();
+        } else {
+            self.stats.mesh_build_ms = 0.0;
+        }
+        self.build_top(scene);
+    }
+
+    /// Every mesh's nodes and triangles into the scene's arrays.
+    fn concatenate(&mut self) {
+        self.nodes.clear();
+        self.triangles.clear();
+        for m in self.meshes.iter().flatten() {
+            self.nodes.extend_from_slice(&m.bvh.nodes);
+            self.triangles.extend_from_slice(&m.bvh.triangles);
+        }
+    }
+
+    /// The top level over every shadow-casting object whose mesh has a triangle.
+    fn build_top(&mut self, scene: &Scene) {
+        let started = Instant::now();
+        let mut offsets = Vec::with_capacity(self.meshes.len());
+        let (mut nodes, mut triangles) = (0u32, 0u32);
+        for m in &self.meshes {
+            offsets.push((nodes, triangles));
+            if let Some(m) = m {
+                nodes += m.bvh.nodes.len() as u32;
+                triangles += m.bvh.triangles.len() as u32;
+            }
+        }
+        let mut candidates = Vec::new();
+        let mut boxes = Vec::new();
+        let mut depth = 0;
+        for (i, o) in scene.objects.iter().enumerate().filter(|(_, o)| o.casts_shadows) {
+            let Some(Some(m)) = self.meshes.get(o.mesh) else { continue };
+            let Some(bounds) = m.bvh.bounds() else { continue };
+            let w = o.transform.inverse();
+            let (node_offset, triangle_offset) = offsets[o.mesh];
+            let rows = [w.row(0), w.row(1), w.row(2)].map(|r| r.to_array());
+            candidates.push(BvhInstance {
+                world_to_object: rows,
+                node_offset,
+                triangle_offset,
+                object: i as u32,
+                pad: 0,
+            });
+            boxes.push(transformed(bounds, &o.transform));
+            depth = depth.max(m.bvh.depth);
+        }
+        let (top, order, top_depth) = flatten_build(&boxes);
+        self.instances = order.iter().map(|&i| candidates[i as usize]).collect();
+        self.top = top;
+        self.depth = depth + top_depth;
+        self.stats.top_builds += 1;
+        self.stats.top_build_ms = started.elapsed().as_secs_f64() * 1e3;
+    }
+
+    /// Bytes of its nodes, instances and triangles on the GPU.
+    pub fn bytes(&self) -> u64 {
+        let size = |n: usize| n as u64;
+        size(std::mem::size_of_val(&self.top[..]))
+            + size(std::mem::size_of_val(&self.instances[..]))
+            + size(std::mem::size_of_val(&self.nodes[..]))
+            + size(std::mem::size_of_val(&self.triangles[..]))
+    }
+
+    /// The world-to-object matrix of `instance`.
+    pub(super) fn world_to_object(instance: &BvhInstance) -> Mat4 {
+        let [r0, r1, r2] = instance.world_to_object.map(glam::Vec4::from_array);
+        Mat4::from_cols_array_2d(&[r0.to_array(), r1.to_array(), r2.to_array(), [0.0, 0.0, 0.0, 1.0]]).transpose()
+    }
+}
