@@ -42,12 +42,17 @@ fn every_shadowed_light_writes_one_image_with_its_classification_mask() {
                 for v in &frame.visibility {
                     assert_eq!((v.width, v.height), (plain.width, plain.height));
                     assert_eq!(v.texels.len(), (plain.width * plain.height) as usize);
-                    let d = frame.diagnostics.iter().find(|d| d.light == v.light).expect("diagnostics");
                     let decided = v.shadow_mask().iter().filter(|m| m.is_some()).count();
-                    let differ = v.disagreements_with(&d.shadow_mask());
-                    println!("  light {}: {decided} pixels decided, {differ} disagree with the classes", v.light);
                     assert!(decided > 0, "light {} decides nothing", v.light);
-                    assert_eq!(differ, 0, "{scene} {} light {}", technique.name(), v.light);
+                    // Shadow rays have no separate classification pass: tests/ray_traced.rs and
+                    // the hard cases judge them against the exact reference instead.
+                    let d = frame.diagnostics.iter().find(|d| d.light == v.light);
+                    assert_eq!(d.is_none(), technique == Technique::RayTraced, "{scene} {}", technique.name());
+                    if let Some(d) = d {
+                        let differ = v.disagreements_with(&d.shadow_mask());
+                        println!("  light {}: {decided} pixels decided, {differ} disagree with the classes", v.light);
+                        assert_eq!(differ, 0, "{scene} {} light {}", technique.name(), v.light);
+                    }
                     // Only a filtered map (2x2 PCF by default) leaves fractions; the others decide 0 or 1.
                     let binary = v.texels.iter().all(|t| t[0] == 0.0 || t[0] == 1.0);
                     let in_range = v.texels.iter().all(|t| (0.0..=1.0).contains(&t[0]) && (t[1] == 0.0 || t[1] == 1.0));

@@ -44,8 +44,9 @@ struct SweepArgs {
     /// $UMBRA_ASSETS when set).
     #[arg(long, value_delimiter = ',', default_value = "cubes,cage,tree,cylinder")]
     scenes: Vec<String>,
-    /// Techniques: sm (shadow map), silmap (silhouette map), sv (shadow volumes), hybrid.
-    #[arg(long, value_delimiter = ',', default_value = "sm,silmap,sv,hybrid")]
+    /// Techniques: sm (shadow map), silmap (silhouette map), sv (shadow volumes), hybrid, rt (ray
+    /// traced).
+    #[arg(long, value_delimiter = ',', default_value = "sm,silmap,sv,hybrid,rt")]
     techniques: Vec<String>,
     /// Shadow-map sizes (sm, silmap, hybrid), each at least 64.
     #[arg(long, value_delimiter = ',', default_value = "256,512,1024,2048,4096", value_parser = crate::sm_size_parser())]

@@ -106,6 +106,8 @@ of the true shadow or of the map's depth field (measured on the receiver, in the
 contact with the receiver. Silhouette maps have no cube form: point lights become spots for them.\n\
 - **hybrid**: the SV rule where its map flagged silhouette pixels, the SM rule elsewhere. lavapipe has no \
 `depthBounds`, so there the hybrid runs its stencil mask; SwiftShader runs the real depth-bounds mask.\n\
+- **RT** (ray traced): the rule of an exact technique, no wrong pixel off the seam of a true shadow edge: it casts \
+the reference's own shadow rays (in f32, through its BVH), so nothing else may explain a difference.\n\
 - Surfaces edge-on to the light (|n·l| < 1e-3) are not judged. **documented tolerance** means a stated error \
 range with its reason (below each case), checked both ways.\n\n\
 `cargo test --test hard_cases` runs the same judgement as one test per case on the driver `UMBRA_DEVICE` names; \

@@ -26,7 +26,7 @@ pub struct Plan {
 }
 
 /// The techniques a sweep measures, by their short names ([`Technique::short`]).
-pub const TECHNIQUES: [Technique; 4] = Technique::SHADOWING;
+pub const TECHNIQUES: [Technique; 5] = Technique::SHADOWING;
 
 /// The swept technique of a short name.
 pub fn technique(short: &str) -> Option<Technique> {

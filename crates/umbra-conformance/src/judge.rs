@@ -97,6 +97,8 @@ pub struct Judgement {
     pub volume_unexplained: u64,
     /// Wrong map-decided pixels beyond the texel band.
     pub map_unexplained: u64,
+    /// Wrong ray-traced pixels beyond the seam (the rule of an exact technique: none).
+    pub ray_unexplained: u64,
     /// Where the first unexplained pixels are: (light, x, y), at most [`SHOWN`].
     pub unexplained_at: Vec<(usize, u32, u32)>,
     /// Lights whose mask decided fewer than [`MIN_COMPARED`] pixels.
@@ -110,7 +112,7 @@ pub struct Judgement {
 impl Judgement {
     /// Wrong pixels no tolerance explains.
     pub fn unexplained(&self) -> u64 {
-        self.volume_unexplained + self.map_unexplained
+        self.volume_unexplained + self.map_unexplained + self.ray_unexplained
     }
 
     /// `unexplained / compared`.
@@ -145,14 +147,21 @@ pub fn judge(
     let surfaces = SurfaceImage::from_gbuffer(frame.width, frame.height, &gbuffer.position, &gbuffer.normal)?;
     let mut j = Judgement::default();
     let mut masks = Vec::new();
-    for d in &frame.diagnostics {
-        let light = scene.lights.get(d.light).ok_or_else(|| missing("diagnostics of a scene light"))?;
-        let map = frame.report.lights.get(d.light).and_then(|l| l.shadow_map.as_ref());
-        let visibility = frame.visibility.iter().find(|v| v.light == d.light);
-        j.class_disagreements += visibility.map_or(0, |v| v.disagreements_with(&d.shadow_mask()));
-        let mask = frame.shadow_mask(d.light).unwrap_or_default();
+    for (index, light) in scene.lights.iter().enumerate() {
+        // Every light with a classification (diagnostics) or a visibility image: ray-traced
+        // lights have no classification pass, only their rays.
+        let diagnostics = frame.diagnostics.iter().find(|d| d.light == index);
+        let visibility = frame.visibility.iter().find(|v| v.light == index);
+        if diagnostics.is_none() && visibility.is_none() {
+            continue;
+        }
+        let map = frame.report.lights.get(index).and_then(|l| l.shadow_map.as_ref());
+        if let (Some(v), Some(d)) = (visibility, diagnostics) {
+            j.class_disagreements += v.disagreements_with(&d.shadow_mask());
+        }
+        let mask = frame.shadow_mask(index).unwrap_or_default();
         let mask = ShadowMask::new(frame.width, frame.height, mask)?;
-        let truth = ShadowMask::reference(scene, bvh, d.light, &surfaces)?;
+        let truth = ShadowMask::reference(scene, bvh, index, &surfaces)?;
         j.shadowed += truth.counts().0;
         let mut compared = 0;
         let distance = edge_distance(&truth);
@@ -178,7 +187,11 @@ pub fn judge(
                 continue;
             }
             let by_volume = matches!(technique, Technique::ShadowVolume | Technique::Hybrid);
-            if by_volume && surface.is_some_and(|s| snapping_explains(light, bvh, &snap, s, r)) {
+            if technique == Technique::RayTraced {
+                // The reference's own rays, walked in f32: nothing beyond the seam explains a
+                // wrong pixel.
+                j.ray_unexplained += 1;
+            } else if by_volume && surface.is_some_and(|s| snapping_explains(light, bvh, &snap, s, r)) {
                 j.snapping += 1;
                 continue;
             } else if by_volume {
@@ -190,11 +203,11 @@ pub fn judge(
                 j.map_unexplained += 1;
             }
             if j.unexplained_at.len() < SHOWN {
-                j.unexplained_at.push((d.light, (i % w) as u32, (i / w) as u32));
+                j.unexplained_at.push((index, (i % w) as u32, (i / w) as u32));
             }
         }
         if compared < MIN_COMPARED {
-            j.thin_lights.push(d.light);
+            j.thin_lights.push(index);
         }
         j.compared += compared;
         masks.push((mask, truth));

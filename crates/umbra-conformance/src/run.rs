@@ -243,11 +243,12 @@ fn verdict(j: &Judgement, expect: Expect, deterministic: bool, nan_free: bool) -
         return Verdict::Fail(format!("lights {:?} decide too few pixels to judge", j.thin_lights));
     }
     let summary = format!(
-        "{} of {} pixels unexplained ({} volume, {} map; {} on seams, {} snapped, {} in texel bands, {} edge-on)",
+        "{} of {} pixels unexplained ({} volume, {} map, {} ray; {} on seams, {} snapped, {} in texel bands, {} edge-on)",
         j.unexplained(),
         j.compared,
         j.volume_unexplained,
         j.map_unexplained,
+        j.ray_unexplained,
         j.seam,
         j.snapping,
         j.texel_band,

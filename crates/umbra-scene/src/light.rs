@@ -18,6 +18,8 @@ pub enum Technique {
     SilhouetteMap,
     /// Shadow volumes only at shadow-map silhouette pixels (Chan–Durand).
     Hybrid,
+    /// One shadow ray per visible receiver pixel through a BVH of the casters (exact).
+    RayTraced,
     /// Chosen per frame by the renderer's planner from what the frame needs: the shadow map
     /// when its texels project no larger than a pixel on every visible receiver
     /// (Stamminger–Drettakis' ratio, Chan–Durand §6.3), the hybrid otherwise.
@@ -25,21 +27,27 @@ pub enum Technique {
 }
 
 impl Technique {
-    /// Every technique, in umbra's table order: the four shadowing ones
+    /// Every technique, in umbra's table order: the five shadowing ones
     /// ([`Technique::SHADOWING`]), then unshadowed and auto.
-    pub const ALL: [Technique; 6] = [
+    pub const ALL: [Technique; 7] = [
         Technique::ShadowMap,
         Technique::SilhouetteMap,
         Technique::ShadowVolume,
         Technique::Hybrid,
+        Technique::RayTraced,
         Technique::Unshadowed,
         Technique::Auto,
     ];
 
     /// The techniques that shadow a light by one algorithm, in table order: what the bench
     /// sweeps, the conformance suite judges and the poster shows.
-    pub const SHADOWING: [Technique; 4] =
-        [Technique::ShadowMap, Technique::SilhouetteMap, Technique::ShadowVolume, Technique::Hybrid];
+    pub const SHADOWING: [Technique; 5] = [
+        Technique::ShadowMap,
+        Technique::SilhouetteMap,
+        Technique::ShadowVolume,
+        Technique::Hybrid,
+        Technique::RayTraced,
+    ];
 
     /// The one table of a technique's names: (scene files and reports, the bench's
     /// configurations, table columns, people).
@@ -49,6 +57,7 @@ impl Technique {
             Technique::SilhouetteMap => ("silhouette_map", "silmap", "silmap", "silhouette map"),
             Technique::ShadowVolume => ("shadow_volume", "sv", "SV", "shadow volumes"),
             Technique::Hybrid => ("hybrid", "hybrid", "hybrid", "hybrid"),
+            Technique::RayTraced => ("ray_traced", "rt", "RT", "ray traced"),
             Technique::Unshadowed => ("unshadowed", "none", "none", "unshadowed"),
             Technique::Auto => ("auto", "auto", "auto", "auto"),
         }

@@ -148,6 +148,9 @@ pub struct LightPlan {
     /// The hybrid's figures this frame, if it used one (its map is `shadow_map`, its volumes
     /// `shadow_volume`).
     pub hybrid: Option<HybridReport>,
+    /// Its ray-tracing BVH (ray-traced lights; left out of the JSON otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ray_traced: Option<RayTracedReport>,
     /// What the renderer decided beyond the plan (e.g. a shadow map not needed this frame).
     pub note: Option<String>,
     /// Objects that enter its shadow map (nearest-first order is the fitting's).
@@ -223,6 +226,44 @@ pub struct HybridReport {
     pub masked_volume_fragments: Option<u64>,
     /// GPU time of the masked stencil pass (`hybrid volumes N`).
     pub stencil_gpu_ms: Option<f64>,
+}
+
+/// The BVH a ray-traced light's shadow rays walked in one frame (`crate::ray_traced`).
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct RayTracedReport {
+    /// Shadow-casting instances in the top level.
+    pub instances: usize,
+    /// Triangles of every mesh's BVH.
+    pub triangles: usize,
+    /// Bytes of nodes, instances and triangles on the GPU.
+    pub bvh_bytes: u64,
+    /// The top level's depth plus the deepest mesh's, in nodes.
+    pub depth: u32,
+    /// Mesh BVHs built so far (once per mesh revision) and top levels built so far (when a
+    /// caster moved, came or went).
+    pub mesh_builds: u64,
+    /// Top levels built so far.
+    pub top_builds: u64,
+    /// This frame's mesh builds and top-level build, in milliseconds (0 when nothing changed).
+    pub mesh_build_ms: f64,
+    /// See `mesh_build_ms`.
+    pub top_build_ms: f64,
+}
+
+impl RayTracedReport {
+    /// The report of `scene` as last updated.
+    pub(crate) fn of(scene: &crate::ray_traced::RayScene) -> Self {
+        Self {
+            instances: scene.instances.len(),
+            triangles: scene.triangles.len(),
+            bvh_bytes: scene.bytes(),
+            depth: scene.depth,
+            mesh_builds: scene.stats.mesh_builds,
+            top_builds: scene.stats.top_builds,
+            mesh_build_ms: scene.stats.mesh_build_ms,
+            top_build_ms: scene.stats.top_build_ms,
+        }
+    }
 }
 
 /// A light's shadow volumes as built and counted in one frame.
@@ -347,6 +388,7 @@ fn plan_light(
         shadow_volume: None,
         silhouette_map: None,
         hybrid: None,
+        ray_traced: None,
         note: None,
         map_casters: Vec::new(),
         volume_casters: Vec::new(),

@@ -1,5 +1,6 @@
 //! Data the CPU makes every frame — the scene's per-frame buffers (camera, objects, lights,
-//! shadow views) and vertex data (silhouette edges, shadow volumes, blocker boxes) — in
+//! shadow views), vertex data (silhouette edges, shadow volumes, blocker boxes) and the
+//! ray-tracing BVH's top level — in
 //! host-visible buffers kept from frame to frame: written in place (the renderer waits for
 //! each frame's work, so nothing reads them any more) and reallocated only to grow, so a warm
 //! frame neither allocates nor submits an upload for them.
@@ -31,6 +32,12 @@ impl Stream {
     /// that a moving scene's volumes and edges do not reallocate every few frames.
     fn vertices(name: &'static str) -> Self {
         Self { headroom: true, ..Self::new(name, vk::BufferUsageFlags::VERTEX_BUFFER) }
+    }
+
+    /// A storage stream read whole by a shader that follows indices (so room to spare is
+    /// harmless): with headroom, as vertex streams.
+    fn storage(name: &'static str) -> Self {
+        Self { headroom: true, ..Self::new(name, vk::BufferUsageFlags::STORAGE_BUFFER) }
     }
 
     /// The buffer filled last, if any.
@@ -80,6 +87,9 @@ pub(crate) struct Streams {
     pub volumes: Stream,
     /// The hybrid's blocker-culling boxes.
     pub blockers: Stream,
+    /// Ray-traced shadows' top-level nodes and instances (`crate::ray_traced`).
+    pub ray_top: Stream,
+    pub ray_instances: Stream,
 }
 
 impl Default for Streams {
@@ -88,6 +98,8 @@ impl Default for Streams {
             edges: Stream::vertices("silhouette edges"),
             volumes: Stream::vertices("shadow volume vertices"),
             blockers: Stream::vertices("blocker boxes"),
+            ray_top: Stream::storage("ray BVH top nodes"),
+            ray_instances: Stream::storage("ray BVH instances"),
         }
     }
 }

@@ -70,6 +70,8 @@ pub(crate) struct Needs {
     /// Whether the scene's camera goes to `P_inf` for it (volumes reach infinity; `auto` may
     /// pick the hybrid).
     pub infinite_camera: bool,
+    /// Whether it casts shadow rays through the scene's BVH (`crate::ray_traced`).
+    pub rays: bool,
     /// How its light is lit.
     pub lighting: Lighting,
     /// With diagnostics: its classification through the forward classes pass (the hybrid
@@ -90,6 +92,7 @@ pub(crate) fn needs(technique: Technique) -> Needs {
         volumes: None,
         bounded: true,
         infinite_camera: false,
+        rays: false,
         lighting: Lighting::Forward,
         classified: false,
     };
@@ -118,6 +121,9 @@ pub(crate) fn needs(technique: Technique) -> Needs {
             lighting: Lighting::Hybrid,
             ..base
         },
+        // Exact: the casters that can shadow a visible receiver are the volumes' (those out
+        // of range, cone or sweep cannot block a ray from a visible point to the light).
+        Technique::RayTraced => Needs { casters: Casters::Volumes, rays: true, ..base },
         Technique::Auto => Needs { infinite_camera: true, ..base },
     }
 }

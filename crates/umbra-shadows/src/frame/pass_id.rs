@@ -29,6 +29,8 @@ pub enum PassId {
     StencilVisibility(usize),
     /// A shadow-map or silhouette-map light's map looked up into its visibility image.
     MapVisibility(usize),
+    /// A ray-traced light's shadow rays, one per receiver pixel, into its visibility image.
+    RayVisibility(usize),
     /// The additive lighting of a light, times its visibility image.
     Light(usize, LightKind),
     /// The hybrid's conservative depth bounds from the light (its classification reads them).
@@ -76,6 +78,7 @@ impl PassId {
             PassId::ShadowVolume(l) => format!("shadow_volume {l}"),
             PassId::StencilVisibility(l) => format!("visibility {l} (stencil)"),
             PassId::MapVisibility(l) => format!("visibility {l}"),
+            PassId::RayVisibility(l) => format!("visibility {l} (rays)"),
             PassId::Light(l, kind) => format!("light {l} ({kind:?})").to_lowercase(),
             PassId::HybridBounds(l) => format!("hybrid bounds {l}"),
             PassId::HybridClassify(l) => format!("hybrid classify {l}"),
@@ -108,6 +111,7 @@ impl PassId {
             | PassId::ShadowVolume(l)
             | PassId::StencilVisibility(l)
             | PassId::MapVisibility(l)
+            | PassId::RayVisibility(l)
             | PassId::Light(l, _)
             | PassId::HybridBounds(l)
             | PassId::HybridClassify(l)
@@ -161,6 +165,7 @@ mod tests {
                 PassId::ShadowVolume(l),
                 PassId::StencilVisibility(l),
                 PassId::MapVisibility(l),
+                PassId::RayVisibility(l),
                 PassId::Light(l, LightKind::Spot),
                 PassId::HybridBounds(l),
                 PassId::HybridClassify(l),

@@ -16,6 +16,7 @@
 //!   measured on the host.
 
 mod bvh;
+pub(crate) mod pass;
 mod scene;
 mod walk;
 

@@ -58,10 +58,16 @@ pub struct RayScene {
     pub nodes: Vec<BvhNode>,
     /// Every mesh's triangles, one after the other, in leaf order.
     pub triangles: Vec<super::BvhTriangle>,
-    /// The deepest of the top level and every instanced mesh's BVH, in nodes.
+    /// The top level's depth plus the deepest instanced mesh's, in nodes.
     pub depth: u32,
     /// What its builds cost.
     pub stats: RaySceneStats,
+    /// Changes whenever its arrays change (what was uploaded of it is stale).
+    pub revision: u64,
+    /// Changes whenever its meshes' arrays (`nodes`, `triangles`) change.
+    pub mesh_revision: u64,
+    /// The instances the top level was last built over, in object order.
+    built_over: Vec<BvhInstance>,
 }
 
 impl RayScene {
@@ -73,7 +79,7 @@ impl RayScene {
     }
 
     /// Brings it up to `scene`: a mesh whose revision or triangle count changed gets a new
-    /// BVH; the top level is rebuilt over the casters' current transforms.
+    /// BVH; the top level is rebuilt when a caster moved, came or went (or a mesh changed).
     pub fn update(&mut self, scene: &Scene) {
         let started = Instant::now();
         self.meshes.resize_with(scene.meshes.len(), || None);
@@ -91,10 +97,11 @@ impl RayScene {
         if rebuilt {
             self.stats.mesh_build_ms = started.elapsed().as_secs_f64() * 1e3;
             self.concatenate();
+            self.mesh_revision += 1;
         } else {
             self.stats.mesh_build_ms = 0.0;
         }
-        self.build_top(scene);
+        self.build_top(scene, rebuilt);
     }
 
     /// Every mesh's nodes and triangles into the scene's arrays.
@@ -107,8 +114,9 @@ impl RayScene {
         }
     }
 
-    /// The top level over every shadow-casting object whose mesh has a triangle.
-    fn build_top(&mut self, scene: &Scene) {
+    /// The top level over every shadow-casting object whose mesh has a triangle, unless they
+    /// are the ones it was built over and no mesh changed.
+    fn build_top(&mut self, scene: &Scene, meshes_changed: bool) {
         let started = Instant::now();
         let mut offsets = Vec::with_capacity(self.meshes.len());
         let (mut nodes, mut triangles) = (0u32, 0u32);
@@ -138,12 +146,18 @@ impl RayScene {
             boxes.push(transformed(bounds, &o.transform));
             depth = depth.max(m.bvh.depth);
         }
+        if !meshes_changed && candidates == self.built_over && self.stats.top_builds > 0 {
+            self.stats.top_build_ms = 0.0;
+            return;
+        }
         let (top, order, top_depth) = flatten_build(&boxes);
         self.instances = order.iter().map(|&i| candidates[i as usize]).collect();
+        self.built_over = candidates;
         self.top = top;
         self.depth = depth + top_depth;
         self.stats.top_builds += 1;
         self.stats.top_build_ms = started.elapsed().as_secs_f64() * 1e3;
+        self.revision += 1;
     }
 
     /// Bytes of its nodes, instances and triangles on the GPU.

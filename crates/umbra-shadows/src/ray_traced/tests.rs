@@ -129,8 +129,12 @@ fn moving_an_object_rebuilds_the_top_level_only() {
         let (disagree, rays) = agree(&scene, 500);
         assert!(disagree <= rays / 100, "frame {frame}: {disagree} of {rays}");
     }
+    walk.update(&scene);
+    assert_eq!(walk.stats.top_builds, 11, "nothing moved: nothing is built");
+    let revision = walk.revision;
     scene.meshes[0].touch();
     walk.update(&scene);
+    assert!(walk.revision > revision);
     assert_eq!(walk.stats.mesh_builds, meshes + 1, "a touched mesh is built again");
 }
 

@@ -234,6 +234,10 @@ impl Renderer {
                 self.declare_stencil_visibility(stage, f, light, volumes, vertices)?;
                 Ok(true)
             }
+            _ if light.rays => {
+                self.declare_ray_visibility(stage, f, light)?;
+                Ok(true)
+            }
             _ if light.map.is_some() => {
                 self.declare_map_visibility(stage, f, light, shadow_set, reads)?;
                 Ok(true)
@@ -328,6 +332,25 @@ impl Renderer {
             over_surfaces(cx.rec, image, Some([0.0; 4]), depth);
             let (layout, light) = (&self.layout, l as u32);
             self.visibility.record_map(cx.rec, layout, f.gpu, shadow_set, f.scene, light, bounds, cx.log);
+            cx.rec.end_rendering();
+            Ok(())
+        });
+        Ok(())
+    }
+
+    /// A ray-traced light: `visibility N (rays)`, one shadow ray per receiver pixel through the
+    /// scene's BVH (`crate::ray_traced`).
+    fn declare_ray_visibility<'a>(
+        &'a self,
+        stage: &mut Stage<'a>,
+        f: FrameInputs<'a>,
+        light: &'a LightFrame,
+    ) -> RenderResult<()> {
+        let (l, bounds, depth) = (light.light(), light_bounds(light), f.depth);
+        let image = &self.visibility.light(l)?.image;
+        stage.pass(PassId::RayVisibility(l), &[Use::Image(image, Color), Use::Image(depth, Depth)], move |cx| {
+            over_surfaces(cx.rec, image, Some([0.0; 4]), depth);
+            self.rays.record(cx.rec, self.slot.rays.as_ref(), f.gpu, f.scene, l as u32, bounds, cx.log)?;
             cx.rec.end_rendering();
             Ok(())
         });

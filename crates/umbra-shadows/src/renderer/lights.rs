@@ -58,6 +58,8 @@ pub(super) struct LightFrame {
     pub edges: Option<LightEdges>,
     /// Its volumes (shadow volumes, the hybrid), culled casters left out.
     pub volumes: Option<LightVolumes>,
+    /// Whether its shadows are ray traced this frame (the scene's BVH is prepared).
+    pub rays: bool,
     /// Casters blocker culling dropped, when its boxes were queried.
     pub culled_blockers: Option<usize>,
 }
@@ -74,9 +76,9 @@ impl LightFrame {
     }
 
     /// Whether its technique may write its visibility image this frame: it is recorded and has
-    /// a map or volumes (with no volume triangle at all it is lit unshadowed).
+    /// a map, volumes (with no volume triangle at all it is lit unshadowed) or rays.
     pub fn may_shadow(&self) -> bool {
-        self.plan.recorded && (self.map.is_some() || self.volumes.is_some())
+        self.plan.recorded && (self.map.is_some() || self.volumes.is_some() || self.rays)
     }
 }
 

@@ -31,6 +31,7 @@ use crate::gpu_scene::{self, SceneCounts, SceneGeometry};
 use crate::hybrid::pass::HybridPass;
 use crate::hybrid::MaskKind;
 use crate::mesh_cache::MeshCache;
+use crate::ray_traced::pass::RayPass;
 use crate::shadow_map::pass::{self, ShadowMapPass};
 use crate::shadow_volume::pass::{ShadowVolumePass, VolumeInput};
 use crate::shadow_volume::FarPlane;
@@ -60,6 +61,8 @@ pub struct Renderer {
     shadow_volume: ShadowVolumePass,
     silhouette_map: SilhouetteMapPass,
     hybrid: HybridPass,
+    /// Ray-traced lights' BVH and shadow rays.
+    rays: RayPass,
     /// The visibility image every shadowed light's technique writes and its lighting reads.
     visibility: VisibilityPass,
     /// How volume vertices reach the GPU: as built, or clipped to the view on the host.
@@ -139,6 +142,7 @@ impl Renderer {
         let clamp = desc.shadow_volume.far_plane == FarPlane::DepthClamp;
         let hybrid =
             HybridPass::new(ctx, &layout, depth_format, &scene_set_layout, &desc.shadow_map, clamp, volume_input)?;
+        let rays = RayPass::new(ctx, &scene_set_layout, depth_format, bounds)?;
         let (width, height, shadow) = (desc.width, desc.height, &desc.shadow_map);
         let visibility =
             VisibilityPass::new(ctx, &layout, visibility_set_layout, depth_format, shadow, width, height, bounds)?;
@@ -182,6 +186,7 @@ impl Renderer {
             shadow_volume,
             silhouette_map,
             hybrid,
+            rays,
             visibility,
             volume_input,
             mask,

@@ -9,7 +9,7 @@ use crate::gpu_scene::{GpuScene, GpuShadow};
 use crate::hybrid::cull::{self, CullingPlan};
 use crate::hybrid::MaskKind;
 use crate::plan::SILHOUETTE_CUBE_UNSUPPORTED;
-use crate::plan::{plan_frame, tally, CullReason, PlanInput, ShadowMapReport, SilhouetteMapReport};
+use crate::plan::{plan_frame, tally, CullReason, PlanInput, RayTracedReport, ShadowMapReport, SilhouetteMapReport};
 use crate::shadow_map::frustum::{self, LightViews, MapKind};
 use crate::shadow_map::DepthBias;
 use crate::shadow_volume::build::{self as volumes};
@@ -54,7 +54,7 @@ impl Renderer {
         )?;
         Ok(plans
             .into_iter()
-            .map(|plan| LightFrame { plan, map: None, edges: None, volumes: None, culled_blockers: None })
+            .map(|plan| LightFrame { plan, map: None, edges: None, volumes: None, rays: false, culled_blockers: None })
             .collect())
     }
 
@@ -256,6 +256,31 @@ impl Renderer {
             }
         }
         streams.volumes.fill(&self.ctx, &clipped)?;
+        Ok(())
+    }
+
+    /// Ray-traced lights (`crate::ray_traced`): every shadowed one casts rays, through the
+    /// scene's BVH brought up to date (meshes built again only when their revision changed, the
+    /// top level when a caster moved) and uploaded when it changed.
+    pub(super) fn prepare_rays(
+        &mut self,
+        scene: &Scene,
+        lights: &mut [LightFrame],
+        streams: &mut Streams,
+    ) -> RenderResult<()> {
+        let mut any = false;
+        for light in lights.iter_mut() {
+            light.rays = needs(light.plan.technique).rays && light.plan.recorded && light.plan.shadowed;
+            any |= light.rays;
+        }
+        if !any {
+            return Ok(());
+        }
+        self.rays.prepare(&self.ctx, scene, streams, &mut self.slot.rays, &mut self.slot.retired)?;
+        let report = RayTracedReport::of(self.rays.scene());
+        for light in lights.iter_mut().filter(|l| l.rays) {
+            light.plan.ray_traced = Some(report);
+        }
         Ok(())
     }
 

@@ -61,8 +61,8 @@ impl Renderer {
     /// 1. plan: per light, what to record and which casters enter its passes (the slot's last
     ///    frame completed, so what it retired goes);
     /// 2. prepare each light's technique on the CPU (`prepare.rs`): map views and maps,
-    ///    silhouette edges, volumes, blocker boxes, with welded connectivity cached per mesh
-    ///    revision;
+    ///    silhouette edges, volumes, the ray-tracing BVH, blocker boxes, with welded
+    ///    connectivity cached per mesh revision;
     /// 3. upload what changed and bind each light's maps (`bind.rs`);
     /// 4. declare the passes into the frame graph and run or record them
     ///    ([`Renderer::declare_frame`]).
@@ -90,6 +90,7 @@ impl Renderer {
     ) -> RenderResult<(FrameRun, Vec<LightSets>, u64, Instant, f64)> {
         let shadow_views = self.prepare_maps(scene, view, adjacency, lights, streams)?;
         self.prepare_volumes(scene, view, adjacency, lights, streams)?;
+        self.prepare_rays(scene, lights, streams)?;
         let culling = self.plan_culling(scene, view, lights, streams)?;
         let gpu = self.upload(scene, view, adjacency, lights, &shadow_views)?;
         let geometry_uploaded = gpu.geometry_uploaded;

@@ -30,6 +30,8 @@ pub(crate) struct FrameSlot {
     upload: Option<MeshUpload>,
     /// What the slot's last frame stopped using, destroyed when the slot is used again.
     pub retired: Retired,
+    /// The ray-tracing BVH's set over this slot's top level (with ray-traced lights).
+    pub rays: Option<crate::ray_traced::pass::SlotRays>,
 }
 
 impl FrameSlot {
@@ -45,6 +47,7 @@ impl FrameSlot {
             geometry: None,
             upload: None,
             retired: Retired::default(),
+            rays: None,
         })
     }
 

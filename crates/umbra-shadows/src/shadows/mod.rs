@@ -261,7 +261,8 @@ impl Shadows {
         else {
             return Ok(());
         };
-        let on_cpu = |t: Technique| t == Technique::Auto || (needs(t).volumes.is_some() || needs(t).silhouette);
+        let on_cpu =
+            |t: Technique| t == Technique::Auto || needs(t).volumes.is_some() || needs(t).silhouette || needs(t).rays;
         match lights.iter().position(|l| on_cpu(l.technique)) {
             None => Ok(()),
             Some(i) => Err(invalid(

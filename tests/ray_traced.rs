@@ -1,0 +1,107 @@
+//! Ray-traced shadows (`Technique::RayTraced`, `umbra_shadows::ray_traced`): one shadow ray per
+//! receiver pixel through the scene's two-level BVH, in a fragment shader over the frame's
+//! surfaces. Here, on both drivers with validation: exact against the reference on the sweep
+//! scenes (the judge's rule for an exact technique: nothing wrong beyond a true edge's seam),
+//! compared pixel for pixel with shadow volumes, and a moving caster that rebuilds only the
+//! BVH's top level while every frame stays exact.
+
+mod common;
+
+use glam::{Mat4, Vec3};
+use umbra::scene::{Scene, Technique};
+use umbra::shadows::{Frame, Renderer, RendererDesc};
+use umbra_conformance::judge::judge;
+use umbra_conformance::Judgement;
+use umbra_reference::SceneBvh;
+
+fn desc() -> RendererDesc {
+    RendererDesc { gbuffer: true, read_visibility: true, ..RendererDesc::new(common::SIZE.0, common::SIZE.1) }
+}
+
+fn with_technique(scene: &Scene, technique: Technique) -> Scene {
+    let mut scene = scene.clone();
+    scene.lights.iter_mut().for_each(|l| l.technique = technique);
+    scene
+}
+
+/// `frame` of `scene` (every light `technique`) judged against the exact reference.
+fn judged(ctx: &umbra::vk::Context, scene: &Scene, frame: &Frame, technique: Technique) -> Judgement {
+    let bvh = SceneBvh::build(scene);
+    let bits = ctx.capabilities().sub_pixel_precision_bits;
+    let (j, _) = judge(scene, &bvh, frame, technique, bits).expect("judged");
+    if j.unexplained() > 0 {
+        println!("    unexplained at (light, x, y): {:?}", j.unexplained_at);
+    }
+    j
+}
+
+#[test]
+fn exact_on_the_sweep_scenes_and_next_to_shadow_volumes() {
+    common::with_context(|ctx| {
+        for name in ["cubes", "cage", "tree", "pins", "plaza"] {
+            let scene = umbra::scene::load(name).expect("scene");
+            let rays = with_technique(&scene, Technique::RayTraced);
+            let frame = Renderer::new(ctx, desc()).and_then(|mut r| r.render(&rays)).expect("ray-traced frame");
+            let j = judged(ctx, &rays, &frame, Technique::RayTraced);
+            let volumes = with_technique(&scene, Technique::ShadowVolume);
+            let sv = Renderer::new(ctx, desc()).and_then(|mut r| r.render(&volumes)).expect("shadow-volume frame");
+            let jv = judged(ctx, &volumes, &sv, Technique::ShadowVolume);
+            let mut differ = 0;
+            for v in &frame.visibility {
+                let other = sv.visibility.iter().find(|o| o.light == v.light).expect("the same lights shadowed");
+                differ += v.shadow_mask().iter().zip(other.shadow_mask()).filter(|(a, b)| **a != *b).count();
+            }
+            let report = frame.report.lights.iter().find_map(|l| l.ray_traced).expect("a ray-traced report");
+            println!(
+                "{name}: wrong {} of {} (seam {}, edge-on {}, unexplained {}); shadow volumes wrong {} (seam {}, snapped {}); {differ} pixels differ between them; BVH {} instances, {} triangles, {} KiB, depth {}",
+                j.wrong,
+                j.compared,
+                j.seam,
+                j.edge_on,
+                j.unexplained(),
+                jv.wrong,
+                jv.seam,
+                jv.snapping,
+                report.instances,
+                report.triangles,
+                report.bvh_bytes / 1024,
+                report.depth
+            );
+            assert!(j.compared > 1000, "{name}: too few pixels judged");
+            assert_eq!(j.unexplained(), 0, "{name}");
+            // The reference's own rays: never more wrong than shadow volumes.
+            assert!(j.wrong <= jv.wrong, "{name}: {} wrong against shadow volumes' {}", j.wrong, jv.wrong);
+            assert!(frame.report.passes.iter().any(|p| p.name.ends_with("(rays)")), "{name}: no ray pass");
+        }
+    });
+}
+
+#[test]
+fn a_moving_caster_rebuilds_only_the_top_level_and_stays_exact() {
+    common::with_context(|ctx| {
+        let mut scene = with_technique(&umbra::scene::load("cubes").expect("cubes"), Technique::RayTraced);
+        let mut renderer = Renderer::new(ctx, desc()).expect("renderer");
+        let caster = scene.objects.iter().position(|o| o.casts_shadows && o.name != "floor").expect("a caster");
+        let mut builds = Vec::new();
+        for frame_index in 0..10 {
+            let o = &mut scene.objects[caster];
+            o.transform = Mat4::from_translation(Vec3::new(0.04, 0.0, 0.02)) * o.transform;
+            let frame = renderer.render(&scene).expect("frame");
+            let r = frame.report.lights[0].ray_traced.expect("ray-traced report");
+            let j = judged(ctx, &scene, &frame, Technique::RayTraced);
+            let (unexplained, compared) = (j.unexplained(), j.compared);
+            println!(
+                "frame {frame_index}: mesh builds {}, top builds {} ({:.3} ms), {unexplained} of {compared} unexplained, {} bytes uploaded, {} allocations",
+                r.mesh_builds,
+                r.top_builds,
+                r.top_build_ms,
+                frame.report.geometry_uploaded_bytes,
+                frame.report.memory_allocations
+            );
+            assert_eq!(unexplained, 0, "frame {frame_index}");
+            builds.push((r.mesh_builds, r.top_builds));
+        }
+        assert!(builds.iter().all(|&(m, _)| m == builds[0].0), "a mesh BVH was built again: {builds:?}");
+        assert!(builds.windows(2).all(|w| w[1].1 == w[0].1 + 1), "one top level per move: {builds:?}");
+    });
+}
