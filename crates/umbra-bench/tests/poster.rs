@@ -30,7 +30,7 @@ fn the_poster_shows_every_technique_and_agrees_with_the_sweep() {
     let poster = json(&dir.join("poster/poster.json"));
     let records = poster["records"].as_array().expect("records");
     let techniques: Vec<&str> = records.iter().filter_map(|r| r["technique"].as_str()).collect();
-    assert_eq!(techniques, ["sm", "silmap", "sv", "hybrid"], "{poster}");
+    assert_eq!(techniques, ["sm", "silmap", "sv", "hybrid", "rt"], "{poster}");
     let png = image::open(dir.join("poster/poster.png")).expect("poster.png decodes");
     assert!(png.width() > 4 * 256 && png.height() > 2 * 192, "{}x{}", png.width(), png.height());
 
@@ -57,6 +57,9 @@ fn the_poster_shows_every_technique_and_agrees_with_the_sweep() {
             twin["gpu_ms"]["p75"],
         );
         assert_eq!(r["accuracy"]["all"], twin["accuracy"]["all"], "{}", key(r).join(" "));
+        // Every technique is scored against the reference (its visibility image, or its
+        // classification where nothing shadowed the light).
+        assert!(r["accuracy"]["all"]["compared"].as_u64() > Some(1000), "{} was not scored", key(r).join(" "));
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -79,7 +79,8 @@ pub fn configs(args: &PosterArgs, depth_bounds: bool) -> Vec<Config> {
         .map(|technique| Config {
             scene: args.scene.clone(),
             technique,
-            sm_size: (technique != "sv").then_some(args.sm_size),
+            // Shadow volumes and shadow rays have no map.
+            sm_size: (!matches!(technique, "sv" | "rt")).then_some(args.sm_size),
             filter: (technique == "sm").then_some(args.filter.name()),
             mask: (technique == "hybrid").then_some(mask.name()),
         })
