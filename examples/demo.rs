@@ -1,5 +1,5 @@
 //! umbra in one picture: one scene rendered with every technique (shadow map, silhouette map,
-//! shadow volumes, hybrid) on the same frame, each scored against the exact ray-traced
+//! shadow volumes, hybrid, ray traced) on the same frame, each scored against the exact ray-traced
 //! reference (`umbra-reference`), written as `out/poster.png` (per technique its image, its
 //! error image and a caption with GPU ms and wrong pixels) and `out/poster.json`, with a table
 //! on stdout. The same as `umbra-bench poster`; `poster.json` names the `umbra-bench sweep`
