@@ -239,10 +239,9 @@ pub struct RayTracedReport {
     pub bvh_bytes: u64,
     /// The top level's depth plus the deepest mesh's, in nodes.
     pub depth: u32,
-    /// Mesh BVHs built so far (once per mesh revision) and top levels built so far (when a
-    /// caster moved, came or went).
+    /// Mesh BVHs built so far (once per mesh revision).
     pub mesh_builds: u64,
-    /// Top levels built so far.
+    /// Top levels built so far (when a caster moved, came or went).
     pub top_builds: u64,
     /// This frame's mesh builds and top-level build, in milliseconds (0 when nothing changed).
     pub mesh_build_ms: f64,

@@ -171,7 +171,8 @@ impl RayScene {
 
     /// The world-to-object matrix of `instance`.
     pub(super) fn world_to_object(instance: &BvhInstance) -> Mat4 {
-        let [r0, r1, r2] = instance.world_to_object.map(glam::Vec4::from_array);
-        Mat4::from_cols_array_2d(&[r0.to_array(), r1.to_array(), r2.to_array(), [0.0, 0.0, 0.0, 1.0]]).transpose()
+        let [r0, r1, r2] = instance.world_to_object;
+        // The rows as columns, transposed.
+        Mat4::from_cols_array_2d(&[r0, r1, r2, [0.0, 0.0, 0.0, 1.0]]).transpose()
     }
 }
