@@ -125,14 +125,13 @@ pub fn print_score(
     let gbuffer = frame.gbuffer.as_ref().context("--score: the frame has no G-buffer")?;
     let surfaces = SurfaceImage::from_gbuffer(frame.width, frame.height, &gbuffer.position, &gbuffer.normal)?;
     let bvh = SceneBvh::build(scene);
-    for d in &frame.diagnostics {
-        let mask = frame.shadow_mask(d.light).unwrap_or_default();
+    for (light, mask) in frame.shadow_masks() {
         let technique = ShadowMask::new(frame.width, frame.height, mask)?;
-        let truth = ShadowMask::reference(scene, &bvh, d.light, &surfaces)?;
+        let truth = ShadowMask::reference(scene, &bvh, light, &surfaces)?;
         let c = Comparison::new(&technique, &truth)?;
         println!(
             "light {}: {} of {} compared pixels wrong ({:.4} %: {} false shadow, {} false light), against the exact reference",
-            d.light,
+            light,
             c.all.wrong,
             c.all.compared,
             100.0 * c.all.fraction(),

@@ -294,10 +294,7 @@ fn score(scene: &Scene, bvh: &SceneBvh, frame: &Frame, dir: &Path, id: &str) -> 
     let (mut all, mut band) = (WrongPixels::default(), WrongPixels::default());
     let (mut max_distance, mut undecided, mut band_px) = (None::<f32>, 0, umbra_reference::EDGE_BAND_PX);
     let mut first_error = Vec::new();
-    // Every light with a shadow mask: its visibility image, or its classification where nothing
-    // shadowed it (ray-traced lights have no classification pass, only their visibility image).
-    let masks = (0..scene.lights.len()).filter_map(|l| frame.shadow_mask(l).map(|m| (l, m)));
-    for (i, (light, mask)) in masks.enumerate() {
+    for (i, (light, mask)) in frame.shadow_masks().enumerate() {
         let technique = ShadowMask::new(frame.width, frame.height, mask)?;
         let truth = ShadowMask::reference(scene, bvh, light, &surfaces)?;
         let c = Comparison::new(&technique, &truth)?;

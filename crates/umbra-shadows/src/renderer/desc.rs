@@ -130,6 +130,13 @@ impl Frame {
         }
     }
 
+    /// Every light that has a shadow mask ([`Frame::shadow_mask`]), in light order, with it:
+    /// what an accuracy measurement compares with the reference. Ray-traced lights have a
+    /// visibility image but no classification.
+    pub fn shadow_masks(&self) -> impl Iterator<Item = (usize, Vec<Option<bool>>)> + '_ {
+        (0..self.report.lights.len()).filter_map(|l| self.shadow_mask(l).map(|m| (l, m)))
+    }
+
     /// Writes the pixels as a PNG.
     pub fn save_png(&self, path: &Path) -> RenderResult<()> {
         image::save_buffer(path, &self.rgba, self.width, self.height, image::ColorType::Rgba8)
