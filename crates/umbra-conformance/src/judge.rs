@@ -147,19 +147,16 @@ pub fn judge(
     let surfaces = SurfaceImage::from_gbuffer(frame.width, frame.height, &gbuffer.position, &gbuffer.normal)?;
     let mut j = Judgement::default();
     let mut masks = Vec::new();
-    for (index, light) in scene.lights.iter().enumerate() {
-        // Every light with a classification (diagnostics) or a visibility image: ray-traced
-        // lights have no classification pass, only their rays.
+    // Every light with a shadow mask (`Frame::shadow_masks`): ray-traced lights have no
+    // classification pass, only their visibility image.
+    for (index, mask) in frame.shadow_masks() {
+        let light = scene.lights.get(index).ok_or_else(|| missing("the scene light of a shadow mask"))?;
         let diagnostics = frame.diagnostics.iter().find(|d| d.light == index);
         let visibility = frame.visibility.iter().find(|v| v.light == index);
-        if diagnostics.is_none() && visibility.is_none() {
-            continue;
-        }
         let map = frame.report.lights.get(index).and_then(|l| l.shadow_map.as_ref());
         if let (Some(v), Some(d)) = (visibility, diagnostics) {
             j.class_disagreements += v.disagreements_with(&d.shadow_mask());
         }
-        let mask = frame.shadow_mask(index).unwrap_or_default();
         let mask = ShadowMask::new(frame.width, frame.height, mask)?;
         let truth = ShadowMask::reference(scene, bvh, index, &surfaces)?;
         j.shadowed += truth.counts().0;
