@@ -242,6 +242,8 @@ fn the_engines_visibility_images_equal_the_renderers_bit_for_bit() {
             ("pins", Technique::Hybrid),
             ("cubes", Technique::RayTraced),
             ("pins", Technique::RayTraced),
+            ("cubes", Technique::HybridRt),
+            ("pins", Technique::HybridRt),
         ];
         for (name, technique) in cases {
             let mut scene = scene(name, technique);
@@ -493,6 +495,7 @@ fn conventions(ctx: &Context, far: f32) -> Vec<(Convention, Technique, Option<Re
     cases.push((c(d32s8, false, Some(far)), Technique::ShadowMap, None));
     // Shadow rays need neither a stencil nor a far plane at infinity.
     cases.push((c(d32s8, false, Some(far)), Technique::RayTraced, None));
+    cases.push((c(d32s8, false, Some(far)), Technique::HybridRt, None));
     cases.push((c(d32s8, false, Some(far)), Technique::ShadowVolume, Some(RebuildReason::FiniteFar)));
     cases.push((c(d32s8, true, Some(far)), Technique::Hybrid, Some(RebuildReason::ReversedZ)));
     let formats = &ctx.capabilities().depth_stencil_formats;

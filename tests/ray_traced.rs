@@ -1,9 +1,11 @@
 //! Ray-traced shadows (`Technique::RayTraced`, `umbra_shadows::ray_traced`): one shadow ray per
 //! receiver pixel through the scene's two-level BVH, in a fragment shader over the frame's
-//! surfaces. Here, on both drivers with validation: exact against the reference on the sweep
-//! scenes (the judge's rule for an exact technique: nothing wrong beyond a true edge's seam),
-//! compared pixel for pixel with shadow volumes, and a moving caster that rebuilds only the
-//! BVH's top level while every frame stays exact.
+//! surfaces; and the ray-traced hybrid (`Technique::HybridRt`): the hybrid's classification,
+//! then rays only at the pixels it leaves uncertain, listed and dispatched indirectly. Here, on
+//! both drivers with validation: both exact against the reference on the sweep scenes (the
+//! judge's rule for an exact technique: nothing wrong beyond a true edge's seam), compared pixel
+//! for pixel with shadow volumes, and a moving caster that rebuilds only the BVH's top level
+//! while every frame stays exact and allocates nothing.
 
 mod common;
 
@@ -35,51 +37,98 @@ fn judged(ctx: &umbra::vk::Context, scene: &Scene, frame: &Frame, technique: Tec
     j
 }
 
+/// The two techniques that cast shadow rays.
+const RAY_TECHNIQUES: [Technique; 2] = [Technique::RayTraced, Technique::HybridRt];
+
 #[test]
 fn exact_on_the_sweep_scenes_and_next_to_shadow_volumes() {
     common::with_context(|ctx| {
         for name in ["cubes", "cage", "tree", "pins", "plaza"] {
             let scene = umbra::scene::load(name).expect("scene");
-            let rays = with_technique(&scene, Technique::RayTraced);
-            let frame = Renderer::new(ctx, desc()).and_then(|mut r| r.render(&rays)).expect("ray-traced frame");
-            let j = judged(ctx, &rays, &frame, Technique::RayTraced);
             let volumes = with_technique(&scene, Technique::ShadowVolume);
             let sv = Renderer::new(ctx, desc()).and_then(|mut r| r.render(&volumes)).expect("shadow-volume frame");
             let jv = judged(ctx, &volumes, &sv, Technique::ShadowVolume);
-            let mut differ = 0;
-            for v in &frame.visibility {
-                let other = sv.visibility.iter().find(|o| o.light == v.light).expect("the same lights shadowed");
-                differ += v.shadow_mask().iter().zip(other.shadow_mask()).filter(|(a, b)| **a != *b).count();
+            for technique in RAY_TECHNIQUES {
+                exact_next_to_volumes(ctx, name, &scene, technique, &sv, &jv);
             }
-            let report = frame.report.lights.iter().find_map(|l| l.ray_traced).expect("a ray-traced report");
-            println!(
-                "{name}: wrong {} of {} (seam {}, edge-on {}, unexplained {}); shadow volumes wrong {} (seam {}, snapped {}); {differ} pixels differ between them; BVH {} instances, {} triangles, {} KiB, depth {}",
-                j.wrong,
-                j.compared,
-                j.seam,
-                j.edge_on,
-                j.unexplained(),
-                jv.wrong,
-                jv.seam,
-                jv.snapping,
-                report.instances,
-                report.triangles,
-                report.bvh_bytes / 1024,
-                report.depth
-            );
-            assert!(j.compared > 1000, "{name}: too few pixels judged");
-            assert_eq!(j.unexplained(), 0, "{name}");
-            // The reference's own rays: never more wrong than shadow volumes.
-            assert!(j.wrong <= jv.wrong, "{name}: {} wrong against shadow volumes' {}", j.wrong, jv.wrong);
-            assert!(frame.report.passes.iter().any(|p| p.name.ends_with("(rays)")), "{name}: no ray pass");
         }
     });
+}
+
+/// `scene` rendered with `technique` is exact and never more wrong than shadow volumes' `sv`
+/// (judged `jv`); prints how they differ.
+fn exact_next_to_volumes(
+    ctx: &umbra::vk::Context,
+    name: &str,
+    scene: &Scene,
+    technique: Technique,
+    sv: &Frame,
+    jv: &Judgement,
+) {
+    let rays = with_technique(scene, technique);
+    let frame = Renderer::new(ctx, desc()).and_then(|mut r| r.render(&rays)).expect("frame");
+    let j = judged(ctx, &rays, &frame, technique);
+    let mut differ = 0;
+    for v in &frame.visibility {
+        let other = sv.visibility.iter().find(|o| o.light == v.light).expect("the same lights shadowed");
+        differ += v.shadow_mask().iter().zip(other.shadow_mask()).filter(|(a, b)| **a != *b).count();
+    }
+    let report = frame.report.lights.iter().find_map(|l| l.ray_traced).expect("a ray-traced report");
+    let t = technique.name();
+    println!(
+        "{name} {t}: wrong {} of {} (seam {}, edge-on {}, unexplained {}); shadow volumes wrong {} (seam {}, snapped {}); {differ} pixels differ between them; BVH {} instances, {} triangles, {} KiB, depth {}",
+        j.wrong,
+        j.compared,
+        j.seam,
+        j.edge_on,
+        j.unexplained(),
+        jv.wrong,
+        jv.seam,
+        jv.snapping,
+        report.instances,
+        report.triangles,
+        report.bvh_bytes / 1024,
+        report.depth
+    );
+    assert!(j.compared > 1000, "{name} {t}: too few pixels judged");
+    assert_eq!(j.unexplained(), 0, "{name} {t}");
+    // The reference's own rays: never more wrong than shadow volumes.
+    assert!(j.wrong <= jv.wrong, "{name} {t}: {} wrong against shadow volumes' {}", j.wrong, jv.wrong);
+    let passes = &frame.report.passes;
+    match technique {
+        Technique::HybridRt => {
+            let pixels = u64::from(frame.width) * u64::from(frame.height);
+            for l in frame.report.lights.iter().filter(|l| l.shadowed) {
+                let h = l.hybrid_rt.expect("a ray-traced hybrid report");
+                let rays = h.rays.expect("rays counted in umbra's own frame");
+                println!(
+                    "    light {}: {rays} rays ({:.2}% of the image)",
+                    l.light,
+                    100.0 * rays as f64 / pixels as f64
+                );
+                // Rays only where the map is unsure: never one per pixel.
+                assert!(rays > 0 && rays < pixels / 2, "{name} light {}: {rays} rays", l.light);
+                assert_eq!(h.rays_dropped, Some(0), "{name} light {}", l.light);
+            }
+            assert!(passes.iter().any(|p| p.name.starts_with("hybrid rays")), "{name}: no ray dispatch");
+        }
+        _ => assert!(passes.iter().any(|p| p.name.ends_with("(rays)")), "{name}: no ray pass"),
+    }
 }
 
 #[test]
 fn a_moving_caster_rebuilds_only_the_top_level_and_stays_exact() {
     common::with_context(|ctx| {
-        let mut scene = with_technique(&umbra::scene::load("cubes").expect("cubes"), Technique::RayTraced);
+        for technique in RAY_TECHNIQUES {
+            moving_caster(ctx, technique);
+        }
+    });
+}
+
+/// Ten frames of `technique` with a caster moved before each.
+fn moving_caster(ctx: &umbra::vk::Context, technique: Technique) {
+    {
+        let mut scene = with_technique(&umbra::scene::load("cubes").expect("cubes"), technique);
         let mut renderer = Renderer::new(ctx, desc()).expect("renderer");
         let caster = scene.objects.iter().position(|o| o.casts_shadows && o.name != "floor").expect("a caster");
         let mut builds = Vec::new();
@@ -88,10 +137,11 @@ fn a_moving_caster_rebuilds_only_the_top_level_and_stays_exact() {
             o.transform = Mat4::from_translation(Vec3::new(0.04, 0.0, 0.02)) * o.transform;
             let frame = renderer.render(&scene).expect("frame");
             let r = frame.report.lights[0].ray_traced.expect("ray-traced report");
-            let j = judged(ctx, &scene, &frame, Technique::RayTraced);
+            let j = judged(ctx, &scene, &frame, technique);
             let (unexplained, compared) = (j.unexplained(), j.compared);
             println!(
-                "frame {frame_index}: mesh builds {}, top builds {} ({:.3} ms), {unexplained} of {compared} unexplained, {} bytes uploaded, {} allocations",
+                "{} frame {frame_index}: mesh builds {}, top builds {} ({:.3} ms), {unexplained} of {compared} unexplained, {} bytes uploaded, {} allocations",
+                technique.name(),
                 r.mesh_builds,
                 r.top_builds,
                 r.top_build_ms,
@@ -99,9 +149,12 @@ fn a_moving_caster_rebuilds_only_the_top_level_and_stays_exact() {
                 frame.report.memory_allocations
             );
             assert_eq!(unexplained, 0, "frame {frame_index}");
+            if frame_index > 0 {
+                assert_eq!(frame.report.memory_allocations, 0, "frame {frame_index} allocated");
+            }
             builds.push((r.mesh_builds, r.top_builds));
         }
         assert!(builds.iter().all(|&(m, _)| m == builds[0].0), "a mesh BVH was built again: {builds:?}");
         assert!(builds.windows(2).all(|w| w[1].1 == w[0].1 + 1), "one top level per move: {builds:?}");
-    });
+    }
 }

@@ -47,7 +47,12 @@ fn every_shadowed_light_writes_one_image_with_its_classification_mask() {
                     // Shadow rays have no separate classification pass: tests/ray_traced.rs and
                     // the hard cases judge them against the exact reference instead.
                     let d = frame.diagnostics.iter().find(|d| d.light == v.light);
-                    assert_eq!(d.is_none(), technique == Technique::RayTraced, "{scene} {}", technique.name());
+                    assert_eq!(
+                        d.is_none(),
+                        matches!(technique, Technique::RayTraced | Technique::HybridRt),
+                        "{scene} {}",
+                        technique.name()
+                    );
                     if let Some(d) = d {
                         let differ = v.disagreements_with(&d.shadow_mask());
                         println!("  light {}: {decided} pixels decided, {differ} disagree with the classes", v.light);

@@ -11,7 +11,7 @@ pub const BINDINGS: &[(&str, &str)] = &[
     ("W A S D, Q E", "fly forward, left, back, right; down, up"),
     ("arrows", "move the selected light: around the scene (left, right), up and down"),
     ("Tab", "select the next light"),
-    ("1 2 3 4 5", "every light: shadow map, silhouette map, shadow volume, hybrid, ray traced"),
+    ("1 2 3 4 5 6", "every light: shadow map, silhouette map, shadow volume, hybrid, ray traced, ray-traced hybrid"),
     ("0", "back to the techniques the example started with"),
     ("M", "cycle the shadow-map size: 512, 1024, 2048, 4096, the example's"),
     ("K", "cycle the hybrid's computation mask: depth-bounds (if the device has it), stencil, none"),

@@ -29,7 +29,7 @@ use winit::window::{Window, WindowId};
 /// Shadow-map sizes `M` cycles through (`None`: the example's own).
 const MAP_SIZES: [Option<u32>; 5] = [Some(512), Some(1024), Some(2048), Some(4096), None];
 /// Techniques of keys 1–4: umbra's one table, in its order.
-const TECHNIQUES: [Technique; 5] = Technique::SHADOWING;
+const TECHNIQUES: [Technique; 6] = Technique::SHADOWING;
 /// How often the title is refreshed.
 const TITLE_EVERY: Duration = Duration::from_millis(500);
 
@@ -393,11 +393,21 @@ impl Viewer {
         let s = &mut self.settings;
         match key {
             KeyCode::Escape => return false,
-            KeyCode::Digit1 | KeyCode::Digit2 | KeyCode::Digit3 | KeyCode::Digit4 | KeyCode::Digit5 => {
-                let i = [KeyCode::Digit1, KeyCode::Digit2, KeyCode::Digit3, KeyCode::Digit4, KeyCode::Digit5]
-                    .iter()
-                    .position(|&k| k == key)
-                    .unwrap_or(0);
+            KeyCode::Digit1
+            | KeyCode::Digit2
+            | KeyCode::Digit3
+            | KeyCode::Digit4
+            | KeyCode::Digit5
+            | KeyCode::Digit6 => {
+                let keys = [
+                    KeyCode::Digit1,
+                    KeyCode::Digit2,
+                    KeyCode::Digit3,
+                    KeyCode::Digit4,
+                    KeyCode::Digit5,
+                    KeyCode::Digit6,
+                ];
+                let i = keys.iter().position(|&k| k == key).unwrap_or(0);
                 s.technique = Some(TECHNIQUES[i]);
                 self.message = None;
             }

@@ -1,34 +1,8 @@
 #version 460
-// Chan–Durand §3 step 2 (Fig. 4), made conservative: the eye pass of a hybrid light, drawn over
-// the frame's depth (EQUAL). The light's depth bounds (hybrid/bounds_lookup.glsl) decide a
-// receiver only where they cannot be wrong; every other receiver facing the light is a
-// silhouette pixel, left for the shadow volumes. Surfaces facing away from the light are never
-// silhouette pixels.
-// Location 0: the light's visibility image (visibility/image.glsl), written here where the
-// bounds decide (hybrid/resolve.frag writes the silhouette pixels' from their stencil count).
-// Location 1: the pixel's class (hybrid/classes.glsl).
-#include "hybrid/bounds_lookup.glsl"
-#include "debug/classes.glsl"
-#include "visibility/surface.glsl"
-
-layout(location = 1) out vec4 out_class;
+// The hybrid's classification (hybrid/classify.glsl); its silhouette pixels are resolved from
+// the volumes' stencil counts (hybrid/resolve.frag).
+#include "hybrid/classify.glsl"
 
 void main() {
-    Light l = lights[push.view];
-    vec3 n = viewer_normal();
-    // A fragment the light does not reach (back-facing: never a silhouette, Fig. 4's
-    // diffuse > 0) writes nothing, as in the other visibility passes: where two fragments cover
-    // one pixel at one depth, the one the light reaches keeps its decision.
-    if (!shadow_in_question(l, n, true)) {
-        out_class = CLASS_NOT_RECEIVER;
-        return;
-    }
-    float v = bounded_visibility(l, world_position);
-    if (v == IN_QUESTION) {
-        out_class = CLASS_SILHOUETTE_LIT; // the volumes decide (hybrid/resolve.frag)
-        out_visibility = VISIBILITY_UNREACHED; // until resolved
-        return;
-    }
-    out_class = v == CERTAINLY_LIT ? CLASS_MAP_LIT : CLASS_MAP_SHADOWED;
-    out_visibility = visibility_decided(v);
+    classify();
 }

@@ -1,9 +1,14 @@
-// Ray-traced shadows' two-level BVH (`umbra_shadows::ray_traced`, set 1 of the ray pass) and the
+// Ray-traced shadows' two-level BVH (`umbra_shadows::ray_traced`; set BVH_SET, 1 unless the
+// including shader defines it: 1 in the ray pass, 0 in the ray-traced hybrid's rays) and the
 // walk of one shadow ray through it: the same steps as `RayScene::occluded` (ray_traced/walk.rs),
 // which tests them on the host against the exact reference.
 // Layouts mirror `BvhNode`, `BvhInstance` and `BvhTriangle` (std430); change both together.
 #ifndef UMBRA_RAY_BVH_GLSL
 #define UMBRA_RAY_BVH_GLSL
+
+#ifndef BVH_SET
+#define BVH_SET 1
+#endif
 
 // An inner node (count == 0) has its children at first and first + 1; a leaf holds `count`
 // primitives from `first` on.
@@ -26,16 +31,16 @@ struct BvhTriangle {
     vec4 v[3];
 };
 
-layout(set = 1, binding = 0, std430) readonly buffer TopNodes {
+layout(set = BVH_SET, binding = 0, std430) readonly buffer TopNodes {
     BvhNode top_nodes[];
 };
-layout(set = 1, binding = 1, std430) readonly buffer Instances {
+layout(set = BVH_SET, binding = 1, std430) readonly buffer Instances {
     BvhInstance instances[];
 };
-layout(set = 1, binding = 2, std430) readonly buffer MeshNodes {
+layout(set = BVH_SET, binding = 2, std430) readonly buffer MeshNodes {
     BvhNode mesh_nodes[];
 };
-layout(set = 1, binding = 3, std430) readonly buffer Triangles {
+layout(set = BVH_SET, binding = 3, std430) readonly buffer Triangles {
     BvhTriangle triangles[];
 };
 

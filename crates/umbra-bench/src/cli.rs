@@ -45,8 +45,8 @@ struct SweepArgs {
     #[arg(long, value_delimiter = ',', default_value = "cubes,cage,tree,cylinder")]
     scenes: Vec<String>,
     /// Techniques: sm (shadow map), silmap (silhouette map), sv (shadow volumes), hybrid, rt (ray
-    /// traced).
-    #[arg(long, value_delimiter = ',', default_value = "sm,silmap,sv,hybrid,rt")]
+    /// traced), hybrid-rt (the ray-traced hybrid).
+    #[arg(long, value_delimiter = ',', default_value = "sm,silmap,sv,hybrid,rt,hybrid-rt")]
     techniques: Vec<String>,
     /// Shadow-map sizes (sm, silmap, hybrid), each at least 64.
     #[arg(long, value_delimiter = ',', default_value = "256,512,1024,2048,4096", value_parser = crate::sm_size_parser())]

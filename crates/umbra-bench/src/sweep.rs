@@ -26,7 +26,7 @@ pub struct Plan {
 }
 
 /// The techniques a sweep measures, by their short names ([`Technique::short`]).
-pub const TECHNIQUES: [Technique; 5] = Technique::SHADOWING;
+pub const TECHNIQUES: [Technique; 6] = Technique::SHADOWING;
 
 /// The swept technique of a short name.
 pub fn technique(short: &str) -> Option<Technique> {
@@ -34,8 +34,9 @@ pub fn technique(short: &str) -> Option<Technique> {
 }
 
 impl Plan {
-    /// Every configuration of one scene: shadow maps per size and filter, silhouette maps per
-    /// size, shadow volumes once, the hybrid per size and mask.
+    /// Every configuration of one scene: shadow maps per size and filter, silhouette maps and
+    /// the ray-traced hybrid per size, shadow volumes and ray-traced shadows once, the hybrid per
+    /// size and mask.
     pub fn configs(&self, scene: &str) -> Vec<Config> {
         let mut out = Vec::new();
         let base = |technique| Config { scene: scene.to_owned(), technique, sm_size: None, filter: None, mask: None };
@@ -48,7 +49,9 @@ impl Plan {
                         }
                     }
                 }
-                "silmap" => out.extend(self.sm_sizes.iter().map(|&s| Config { sm_size: Some(s), ..base(t) })),
+                "silmap" | "hybrid-rt" => {
+                    out.extend(self.sm_sizes.iter().map(|&s| Config { sm_size: Some(s), ..base(t) }))
+                }
                 "hybrid" => {
                     for &s in &self.sm_sizes {
                         for m in &self.masks {
@@ -66,6 +69,14 @@ impl Plan {
 /// Why the device cannot run `config`, if it cannot.
 pub fn unsupported(ctx: &Context, config: &Config) -> Option<String> {
     let caps = ctx.capabilities();
+    if config.technique == Technique::HybridRt.short()
+        && !(caps.fragment_stores_and_atomics && caps.storage_image_extended_formats && caps.compute_queue)
+    {
+        return Some(format!(
+            "{} lacks fragmentStoresAndAtomics, shaderStorageImageExtendedFormats or compute on its graphics queue",
+            caps.device_name
+        ));
+    }
     if config.mask == Some(MaskKind::DepthBounds.name()) && !caps.depth_bounds {
         return Some(format!("{} has no depthBounds feature", caps.device_name));
     }

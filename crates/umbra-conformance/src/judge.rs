@@ -184,8 +184,9 @@ pub fn judge(
                 continue;
             }
             let by_volume = matches!(technique, Technique::ShadowVolume | Technique::Hybrid);
-            if technique == Technique::RayTraced {
-                // The reference's own rays, walked in f32: nothing beyond the seam explains a
+            if matches!(technique, Technique::RayTraced | Technique::HybridRt) {
+                // The reference's own rays, walked in f32 (the ray-traced hybrid's map decides
+                // only where its bounds cannot be wrong): nothing beyond the seam explains a
                 // wrong pixel.
                 j.ray_unexplained += 1;
             } else if by_volume && surface.is_some_and(|s| snapping_explains(light, bvh, &snap, s, r)) {

@@ -44,8 +44,8 @@ pub use error::{RenderError, RenderResult};
 pub use frame::PassId;
 pub use hybrid::{HybridSettings, MaskKind};
 pub use plan::{
-    CasterMode, CullReason, Culled, FramePlan, HybridReport, LightPlan, RayTracedReport, ShadowMapReport,
-    ShadowVolumeReport, SilhouetteMapReport,
+    CasterMode, CullReason, Culled, FramePlan, HybridReport, HybridRtReport, LightPlan, RayTracedReport,
+    ShadowMapReport, ShadowVolumeReport, SilhouetteMapReport,
 };
 pub use renderer::{Frame, Renderer, RendererDesc, COLOR_FORMAT};
 pub use report::{FrameReport, MeshTopology, SceneSummary, TopologySource, VolumeConstruction};

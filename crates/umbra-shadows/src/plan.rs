@@ -151,6 +151,10 @@ pub struct LightPlan {
     /// Its ray-tracing BVH (ray-traced lights; left out of the JSON otherwise).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ray_traced: Option<RayTracedReport>,
+    /// The ray-traced hybrid's rays (its map is `shadow_map`, its BVH `ray_traced`; left out of
+    /// the JSON for other lights).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hybrid_rt: Option<HybridRtReport>,
     /// What the renderer decided beyond the plan (e.g. a shadow map not needed this frame).
     pub note: Option<String>,
     /// Objects that enter its shadow map (nearest-first order is the fitting's).
@@ -226,6 +230,24 @@ pub struct HybridReport {
     pub masked_volume_fragments: Option<u64>,
     /// GPU time of the masked stencil pass (`hybrid volumes N`).
     pub stencil_gpu_ms: Option<f64>,
+}
+
+/// A ray-traced hybrid light's rays in one frame (`crate::hybrid::rays`).
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct HybridRtReport {
+    /// Shadow rays its classification appended: the pixels facing the light that its depth
+    /// bounds could not decide (silhouette pixels; read back in umbra's own frames, `None` in an
+    /// engine's, which umbra never waits for).
+    pub rays: Option<u64>,
+    /// `rays` over the image's pixel count (P).
+    pub ray_fraction: Option<f64>,
+    /// Rays beyond the list's capacity, not cast (their pixels stay undecided): 0 unless two
+    /// fragments at one pixel both appended, or the list was cut to `maxStorageBufferRange`.
+    pub rays_dropped: Option<u64>,
+    /// Rays the list holds.
+    pub list_capacity: u64,
+    /// GPU time of its rays (`hybrid rays N`).
+    pub rays_gpu_ms: Option<f64>,
 }
 
 /// The BVH a ray-traced light's shadow rays walked in one frame (`crate::ray_traced`).
@@ -387,6 +409,7 @@ fn plan_light(
         shadow_volume: None,
         silhouette_map: None,
         hybrid: None,
+        hybrid_rt: None,
         ray_traced: None,
         note: None,
         map_casters: Vec::new(),

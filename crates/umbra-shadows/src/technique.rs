@@ -46,7 +46,8 @@ pub(crate) enum Volumes {
 pub(crate) enum Lighting {
     /// The forward lighting pass, testing the map, the silhouette map or the stencil.
     Forward,
-    /// Its own passes after the map (`hybrid::frame`).
+    /// Its own passes after the map (`hybrid::frame`): the classification, then its volumes
+    /// or, with `rays`, its shadow rays at the pixels the map leaves uncertain.
     Hybrid,
 }
 
@@ -124,6 +125,16 @@ pub(crate) fn needs(technique: Technique) -> Needs {
         // Exact: the casters that can shadow a visible receiver are the volumes' (those out
         // of range, cone or sweep cannot block a ray from a visible point to the light).
         Technique::RayTraced => Needs { casters: Casters::Volumes, rays: true, ..base },
+        // The hybrid's map and classification, rays for its volumes: as exact as
+        // `RayTraced`, so its casters are the same.
+        Technique::HybridRt => Needs {
+            casters: Casters::Volumes,
+            map: Some(MapSize::Hybrid),
+            bounded: false,
+            rays: true,
+            lighting: Lighting::Hybrid,
+            ..base
+        },
         Technique::Auto => Needs { infinite_camera: true, ..base },
     }
 }

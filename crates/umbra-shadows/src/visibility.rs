@@ -103,6 +103,8 @@ pub(crate) struct VisibilityPass {
     images: Vec<Option<LightVisibility>>,
     width: u32,
     height: u32,
+    /// Whether the images are also storage images ([`crate::hybrid::rays::supported`]).
+    storage: bool,
     /// Set 2 of an unshadowed light's lighting pass, which never reads it: a 1×1 placeholder.
     pub unshadowed_set: DescriptorSet,
     _placeholder: Image,
@@ -121,10 +123,14 @@ pub(crate) fn set_layout(ctx: &Context) -> RenderResult<DescriptorSetLayout> {
     Ok(DescriptorSetLayout::new(ctx, "visibility set layout", &[binding])?)
 }
 
-/// The description of the visibility image of a `width` × `height` frame.
-pub(crate) fn image_desc(width: u32, height: u32) -> ImageDesc {
-    let usage =
+/// The description of the visibility image of a `width` × `height` frame; with `storage`,
+/// also a storage image (the ray-traced hybrid's rays write it from a compute shader).
+pub(crate) fn image_desc(width: u32, height: u32, storage: bool) -> ImageDesc {
+    let mut usage =
         vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC;
+    if storage {
+        usage |= vk::ImageUsageFlags::STORAGE;
+    }
     ImageDesc::new_2d(VISIBILITY_FORMAT, width, height).usage(usage)
 }
 
@@ -174,6 +180,7 @@ impl VisibilityPass {
             images: Vec::new(),
             width,
             height,
+            storage: crate::hybrid::rays::supported(ctx.capabilities()),
             unshadowed_set,
             _placeholder: placeholder,
             set_layout,
@@ -191,8 +198,8 @@ impl VisibilityPass {
         self.images.resize_with(shadowed.len(), || None);
         for (l, (kept, &wanted)) in self.images.iter_mut().zip(shadowed).enumerate() {
             if wanted && kept.is_none() {
-                let image =
-                    Image::new(ctx, &format!("visibility image (light {l})"), image_desc(self.width, self.height))?;
+                let desc = image_desc(self.width, self.height, self.storage);
+                let image = Image::new(ctx, &format!("visibility image (light {l})"), desc)?;
                 let name = format!("visibility set (light {l})");
                 let set = DescriptorSet::new(ctx, &name, &self.set_layout, &[sampled(&image, &self.sampler)])?;
                 *kept = Some(LightVisibility { image, set });

@@ -174,3 +174,42 @@ impl Drop for Buffer {
         }
     }
 }
+
+/// How a pass uses a buffer the GPU itself writes (a compacted list and its dispatch
+/// arguments), for the barriers between passes ([`crate::Recorder::buffer_transition`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BufferState {
+    /// Not used yet this frame: leaving it waits for every earlier command (an earlier frame's
+    /// use of a buffer shared by frames in flight).
+    Unknown,
+    /// Written by a transfer (`vkCmdUpdateBuffer`, `vkCmdFillBuffer`, a copy).
+    TransferDst,
+    /// Read by a transfer (a copy into a readback).
+    TransferSrc,
+    /// Read and written (atomics) by fragment shaders as a storage buffer.
+    FragmentStorage,
+    /// Read by compute shaders as a storage buffer and as indirect dispatch arguments.
+    ComputeRead,
+}
+
+impl BufferState {
+    /// The stages and accesses of a use in this state.
+    pub(crate) fn stage_access(self) -> (vk::PipelineStageFlags2, vk::AccessFlags2) {
+        use vk::AccessFlags2 as A;
+        use vk::PipelineStageFlags2 as S;
+        match self {
+            BufferState::Unknown => (S::ALL_COMMANDS, A::MEMORY_READ | A::MEMORY_WRITE),
+            BufferState::TransferDst => (S::ALL_TRANSFER, A::TRANSFER_WRITE),
+            BufferState::TransferSrc => (S::ALL_TRANSFER, A::TRANSFER_READ),
+            BufferState::FragmentStorage => (S::FRAGMENT_SHADER, A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE),
+            BufferState::ComputeRead => {
+                (S::DRAW_INDIRECT | S::COMPUTE_SHADER, A::INDIRECT_COMMAND_READ | A::SHADER_STORAGE_READ)
+            }
+        }
+    }
+
+    /// Whether a use in this state may write.
+    pub fn writes(self) -> bool {
+        matches!(self, BufferState::Unknown | BufferState::TransferDst | BufferState::FragmentStorage)
+    }
+}

@@ -42,6 +42,15 @@ pub struct Capabilities {
     pub timestamp_valid_bits: u32,
     /// `geometryShader`.
     pub geometry_shader: bool,
+    /// `fragmentStoresAndAtomics`: fragment shaders write storage buffers (the ray-traced
+    /// hybrid appends its uncertain pixels to a list).
+    pub fragment_stores_and_atomics: bool,
+    /// `shaderStorageImageExtendedFormats`: storage images of formats such as `rg32f` (the
+    /// ray-traced hybrid's rays write the visibility image, RG32F).
+    pub storage_image_extended_formats: bool,
+    /// The graphics queue also runs compute (`VK_QUEUE_COMPUTE_BIT`): umbra's compute passes
+    /// are recorded beside its draws.
+    pub compute_queue: bool,
     /// `wideLines`: line widths other than 1.0.
     pub wide_lines: bool,
     /// Supported line width range (`[1, 1]` without wide lines).
@@ -142,6 +151,9 @@ impl Capabilities {
             timestamp_period_ns: limits.timestamp_period,
             timestamp_valid_bits,
             geometry_shader: p.enabled.geometry_shader == vk::TRUE,
+            fragment_stores_and_atomics: p.enabled.fragment_stores_and_atomics == vk::TRUE,
+            storage_image_extended_formats: p.enabled.shader_storage_image_extended_formats == vk::TRUE,
+            compute_queue: p.queue_family.queue_flags.contains(vk::QueueFlags::COMPUTE),
             wide_lines,
             line_width_range: if wide_lines { limits.line_width_range } else { [1.0, 1.0] },
             conservative_rasterization: p.conservative_rasterization,
@@ -185,6 +197,8 @@ pub(crate) fn wanted_features(supported: &vk::PhysicalDeviceFeatures) -> vk::Phy
         wide_lines: supported.wide_lines,
         fill_mode_non_solid: supported.fill_mode_non_solid,
         depth_bias_clamp: supported.depth_bias_clamp,
+        fragment_stores_and_atomics: supported.fragment_stores_and_atomics,
+        shader_storage_image_extended_formats: supported.shader_storage_image_extended_formats,
         ..Default::default()
     }
 }

@@ -7,7 +7,8 @@
 use crate::error::{CallContext, VkResult};
 use crate::image::format_aspect;
 use crate::{
-    Buffer, Context, DescriptorSet, GraphicsPipeline, Image, ImageState, ImageView, PipelineLayout, QueryPool,
+    Buffer, BufferState, ComputePipeline, Context, DescriptorSet, GraphicsPipeline, Image, ImageState, ImageView,
+    PipelineLayout, QueryPool,
 };
 use ash::vk;
 use std::ffi::CString;
@@ -238,6 +239,32 @@ impl<'a> Recorder<'a> {
         unsafe { self.device().cmd_pipeline_barrier2(self.cmd, &dep) };
     }
 
+    /// Moves buffers between uses with one batched barrier (every transition is a memory
+    /// dependency: callers pass only those with a write on either side).
+    pub fn buffer_transition(&mut self, buffers: &[(&'a Buffer, BufferState, BufferState)]) {
+        let barriers: Vec<_> = buffers
+            .iter()
+            .map(|&(buffer, from, to)| {
+                let (src_stage, src_access) = from.stage_access();
+                let (dst_stage, dst_access) = to.stage_access();
+                vk::BufferMemoryBarrier2::default()
+                    .src_stage_mask(src_stage)
+                    .src_access_mask(src_access)
+                    .dst_stage_mask(dst_stage)
+                    .dst_access_mask(dst_access)
+                    .buffer(buffer.raw)
+                    .offset(0)
+                    .size(vk::WHOLE_SIZE)
+            })
+            .collect();
+        if barriers.is_empty() {
+            return;
+        }
+        let dep = vk::DependencyInfo::default().buffer_memory_barriers(&barriers);
+        // SAFETY: the buffers are alive for 'a; stage masks are never empty.
+        unsafe { self.device().cmd_pipeline_barrier2(self.cmd, &dep) };
+    }
+
     /// Copies each staging buffer ([`Buffer::staging`]) whole into its device-local buffer,
     /// then makes the copies visible to every later read (one global barrier).
     pub fn copy_staged(&mut self, pairs: &[(&'a Buffer, &'a Buffer)]) {
@@ -374,6 +401,42 @@ impl<'a> Recorder<'a> {
     pub fn bind_pipeline(&mut self, pipeline: &'a GraphicsPipeline) {
         // SAFETY: the pipeline is alive for 'a.
         unsafe { self.device().cmd_bind_pipeline(self.cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.raw) };
+    }
+
+    /// Binds a compute pipeline.
+    pub fn bind_compute_pipeline(&mut self, pipeline: &'a ComputePipeline) {
+        // SAFETY: the pipeline is alive for 'a.
+        unsafe { self.device().cmd_bind_pipeline(self.cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw) };
+    }
+
+    /// Binds a descriptor set at `index` for compute pipelines.
+    pub fn bind_compute_set(&mut self, layout: &'a PipelineLayout, index: u32, set: &'a DescriptorSet) {
+        // SAFETY: set and layout are alive for 'a.
+        unsafe {
+            self.device().cmd_bind_descriptor_sets(
+                self.cmd,
+                vk::PipelineBindPoint::COMPUTE,
+                layout.raw,
+                index,
+                &[set.raw],
+                &[],
+            )
+        };
+    }
+
+    /// Dispatches the bound compute pipeline with the workgroup counts at byte `offset` of
+    /// `buffer` (a `VkDispatchIndirectCommand`, written by the GPU; the buffer has
+    /// `INDIRECT_BUFFER` usage).
+    pub fn dispatch_indirect(&mut self, buffer: &'a Buffer, offset: u64) {
+        // SAFETY: alive for 'a; the usage and alignment are checked by validation.
+        unsafe { self.device().cmd_dispatch_indirect(self.cmd, buffer.raw, offset) };
+    }
+
+    /// Writes `words` at the start of `buffer` from the command buffer (at most 65,536 bytes;
+    /// the buffer has `TRANSFER_DST` usage).
+    pub fn update_buffer(&mut self, buffer: &'a Buffer, words: &[u32]) {
+        // SAFETY: alive for 'a; size limits are checked by validation.
+        unsafe { self.device().cmd_update_buffer(self.cmd, buffer.raw, 0, bytemuck::cast_slice(words)) };
     }
 
     /// Binds a descriptor set at `index`.

@@ -60,7 +60,8 @@ impl ContextOptions {
 ///   the calling thread and waits on a fence, so the engine must not use that queue on another
 ///   thread during an umbra call;
 /// - optional core features (`depthBounds`, `depthClamp`, `pipelineStatisticsQuery`,
-///   `geometryShader`, `wideLines`, `depthBiasClamp`, `fillModeNonSolid`): list in
+///   `geometryShader`, `wideLines`, `depthBiasClamp`, `fillModeNonSolid`,
+///   `fragmentStoresAndAtomics`, `shaderStorageImageExtendedFormats`): list in
 ///   `enabled_features` exactly those the engine enabled; umbra's [`Capabilities`] report them and
 ///   techniques that need a missing one fall back or return [`VkError::Unsupported`];
 /// - `VK_EXT_debug_utils` on the instance is optional: with it, umbra names its objects and

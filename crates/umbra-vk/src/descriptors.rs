@@ -67,6 +67,9 @@ pub enum Resource<'a> {
         /// Layout the image is in while read.
         layout: vk::ImageLayout,
     },
+    /// A storage image, written by compute shaders in `GENERAL` layout
+    /// ([`crate::ImageState::ComputeWrite`]).
+    StorageImage(vk::ImageView),
 }
 
 /// A descriptor set: with its own pool (freed on drop), or one of a [`DescriptorArena`]'s
@@ -232,6 +235,11 @@ fn write(ctx: &Context, raw: vk::DescriptorSet, layout: &DescriptorSetLayout, re
             Resource::SampledImage { view, sampler, layout } => {
                 [vk::DescriptorImageInfo { sampler, image_view: view, image_layout: layout }]
             }
+            Resource::StorageImage(view) => [vk::DescriptorImageInfo {
+                sampler: vk::Sampler::null(),
+                image_view: view,
+                image_layout: vk::ImageLayout::GENERAL,
+            }],
             _ => [vk::DescriptorImageInfo::default()],
         })
         .collect();
@@ -244,7 +252,7 @@ fn write(ctx: &Context, raw: vk::DescriptorSet, layout: &DescriptorSetLayout, re
             let w = vk::WriteDescriptorSet::default().dst_set(raw).dst_binding(b.binding).descriptor_type(b.ty);
             match r {
                 Resource::Buffer(_) => w.buffer_info(&buffer_infos[i]),
-                Resource::SampledImage { .. } => w.image_info(&image_infos[i]),
+                Resource::SampledImage { .. } | Resource::StorageImage(_) => w.image_info(&image_infos[i]),
             }
         })
         .collect();

@@ -98,6 +98,9 @@ pub enum ImageState {
     TransferSrc,
     /// Destination of a copy, a blit or a clear.
     TransferDst,
+    /// Written by compute shaders as a storage image (`GENERAL` layout; the image needs
+    /// `STORAGE` usage).
+    ComputeWrite,
 }
 
 impl ImageState {
@@ -110,6 +113,7 @@ impl ImageState {
             ImageState::FragmentRead => vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
             ImageState::TransferSrc => vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
             ImageState::TransferDst => vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            ImageState::ComputeWrite => vk::ImageLayout::GENERAL,
         }
     }
 
@@ -133,6 +137,7 @@ impl ImageState {
             ImageState::TransferSrc => (S::ALL_TRANSFER, A::TRANSFER_READ),
             // Copies, blits and clears (vkCmdClear*Image runs in the CLEAR stage, not COPY).
             ImageState::TransferDst => (S::ALL_TRANSFER, A::TRANSFER_WRITE),
+            ImageState::ComputeWrite => (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE),
         }
     }
 }

@@ -20,7 +20,8 @@
 //! Required: Vulkan 1.3, `dynamicRendering`, `synchronization2`, a graphics queue.
 //! Optional (enabled when present, reported in [`Capabilities`]): `depthBounds`, `depthClamp`,
 //! `pipelineStatisticsQuery`, `geometryShader`, `wideLines`, `depthBiasClamp`,
-//! `fillModeNonSolid`, `VK_EXT_conservative_rasterization`; `VK_EXT_debug_utils` on the instance.
+//! `fillModeNonSolid`, `fragmentStoresAndAtomics`, `shaderStorageImageExtendedFormats`,
+//! `VK_EXT_conservative_rasterization`; `VK_EXT_debug_utils` on the instance.
 //! Presenting: the window system's surface extensions on the instance ([`surface_extensions`])
 //! and `VK_KHR_swapchain` on the device.
 
@@ -29,6 +30,7 @@
 mod buffer;
 mod capabilities;
 mod commands;
+mod compute;
 mod context;
 mod descriptors;
 mod error;
@@ -45,10 +47,11 @@ mod validation;
 
 pub use ash;
 pub use ash::vk;
-pub use buffer::{Buffer, BufferDesc};
+pub use buffer::{Buffer, BufferDesc, BufferState};
 pub use bytemuck;
 pub use capabilities::{device_type_name, Capabilities, DEPTH_STENCIL_PREFERENCE};
 pub use commands::{ColorAttachment, DepthAttachment, Recorder, RenderTargets, VertexStreamBinding};
+pub use compute::ComputePipeline;
 pub use context::{Context, ContextOptions, ExternalDevice, VALIDATION_ENV};
 pub use descriptors::{Binding, DescriptorArena, DescriptorSet, DescriptorSetLayout, Resource};
 pub use error::{VkError, VkResult};

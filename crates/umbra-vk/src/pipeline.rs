@@ -227,7 +227,8 @@ pub struct PipelineLayout {
 }
 
 impl PipelineLayout {
-    /// Creates a layout with `sets` and `push_bytes` of push constants for vertex and fragment.
+    /// Creates a layout with `sets` and `push_bytes` of push constants for the vertex,
+    /// fragment and compute stages.
     pub fn new(ctx: &Context, name: &str, sets: &[&DescriptorSetLayout], push_bytes: u32) -> VkResult<Self> {
         let max = ctx.capabilities().max_push_constants_size;
         if push_bytes > max || push_bytes % 4 != 0 {
@@ -236,7 +237,7 @@ impl PipelineLayout {
                 why: format!("{name}: {push_bytes} push-constant bytes (multiple of 4, at most {max})"),
             });
         }
-        let push_stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        let push_stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT | vk::ShaderStageFlags::COMPUTE;
         let ranges = [vk::PushConstantRange { stage_flags: push_stages, offset: 0, size: push_bytes }];
         let raw_sets: Vec<_> = sets.iter().map(|s| s.raw).collect();
         let mut info = vk::PipelineLayoutCreateInfo::default().set_layouts(&raw_sets);
@@ -432,7 +433,7 @@ impl Drop for GraphicsPipeline {
     }
 }
 
-fn shader_module(ctx: &Context, spirv: &[u32], name: &str) -> VkResult<vk::ShaderModule> {
+pub(crate) fn shader_module(ctx: &Context, spirv: &[u32], name: &str) -> VkResult<vk::ShaderModule> {
     if spirv.first() != Some(&0x0723_0203) {
         return Err(VkError::InvalidDesc { what: "shader module", why: "not SPIR-V (bad magic number)".into() });
     }

@@ -102,6 +102,7 @@ fn config_detail(c: &crate::record::Config) -> String {
         ("silmap", ..) => Some("dual-grid silhouette points".to_owned()),
         ("sv", ..) => Some("z-pass / z-fail per caster, exact".to_owned()),
         ("rt", ..) => Some("a shadow ray per pixel through a BVH, exact".to_owned()),
+        ("hybrid-rt", ..) => Some("rays only where the map is unsure, exact".to_owned()),
         _ => None,
     };
     map.into_iter().chain(rest).collect::<Vec<_>>().join(", ")

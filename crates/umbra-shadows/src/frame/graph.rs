@@ -9,13 +9,17 @@ use super::states::ImageStates;
 use super::PassId;
 use crate::timing::{PassLog, PassReport};
 use crate::RenderResult;
-use umbra_vk::{Buffer, Context, Image, ImageState, QueryKind, QueryPool, Recorder};
+use umbra_vk::{Buffer, BufferState, Context, Image, ImageState, QueryKind, QueryPool, Recorder};
 
-/// What a pass uses: an image in a state, or a buffer it copies into for the host to read.
+/// What a pass uses: an image in a state, a buffer the GPU writes in a state, or a buffer it
+/// copies into for the host to read.
 #[derive(Clone, Copy)]
 pub(crate) enum Use<'a> {
     /// The image, moved into the state before the pass begins.
     Image(&'a Image, ImageState),
+    /// A buffer the GPU writes (a compacted list), with a barrier from its last use before the
+    /// pass begins.
+    Buffer(&'a Buffer, BufferState),
     /// A host-visible buffer written by a copy, read by the host once the stage completed.
     Readback(&'a Buffer),
 }
@@ -200,14 +204,23 @@ impl FrameGraph {
                 .iter()
                 .filter_map(|u| match *u {
                     Use::Image(image, state) => Some((image, state)),
-                    Use::Readback(_) => None,
+                    _ => None,
+                })
+                .collect();
+            let buffers: Vec<_> = pass
+                .uses
+                .iter()
+                .filter_map(|u| match *u {
+                    Use::Buffer(buffer, state) => Some((buffer, state)),
+                    _ => None,
                 })
                 .collect();
             readbacks.extend(pass.uses.iter().filter_map(|u| match *u {
                 Use::Readback(buffer) => Some(buffer),
-                Use::Image(..) => None,
+                _ => None,
             }));
             states.enter(rec, &images);
+            states.enter_buffers(rec, &buffers);
             rec.begin_label(&pass.id.name());
             if let Some(t) = timer {
                 rec.write_timestamp(t, 2 * i as u32);

@@ -44,6 +44,12 @@ pub enum PassId {
     HybridVolumes(usize),
     /// Chan–Durand §3 step 4: the silhouette pixels' visibility from their stencil counts.
     HybridVisibility(usize),
+    /// The ray-traced hybrid: its ray list emptied before the classification appends to it.
+    HybridRayList(usize),
+    /// The ray-traced hybrid: the silhouette pixels' shadow rays, dispatched indirectly.
+    HybridRays(usize),
+    /// The ray-traced hybrid: its ray count copied out for the report (umbra's own frames).
+    HybridRayCount(usize),
     /// Diagnostic: the volume fragments the hybrid's mask lets through.
     MaskedVolumeFragments(usize),
     /// Diagnostic: the hybrid's classes and stencil copied out.
@@ -85,6 +91,9 @@ impl PassId {
             PassId::ComputationMask(l) => format!("computation mask {l}"),
             PassId::HybridVolumes(l) => format!("hybrid volumes {l}"),
             PassId::HybridVisibility(l) => format!("hybrid visibility {l}"),
+            PassId::HybridRayList(l) => format!("hybrid ray list {l}"),
+            PassId::HybridRays(l) => format!("hybrid rays {l}"),
+            PassId::HybridRayCount(l) => format!("hybrid ray count {l}"),
             PassId::MaskedVolumeFragments(l) => format!("masked volume fragments {l}"),
             PassId::HybridDiagnostics(l) => format!("hybrid diagnostics {l}"),
             PassId::LightDiagnostics(l) => format!("light diagnostics {l}"),
@@ -118,6 +127,9 @@ impl PassId {
             | PassId::ComputationMask(l)
             | PassId::HybridVolumes(l)
             | PassId::HybridVisibility(l)
+            | PassId::HybridRayList(l)
+            | PassId::HybridRays(l)
+            | PassId::HybridRayCount(l)
             | PassId::MaskedVolumeFragments(l)
             | PassId::HybridDiagnostics(l)
             | PassId::LightDiagnostics(l)
@@ -134,6 +146,7 @@ impl PassId {
             self,
             PassId::GBuffer
                 | PassId::MaskedVolumeFragments(_)
+                | PassId::HybridRayCount(_)
                 | PassId::HybridDiagnostics(_)
                 | PassId::LightDiagnostics(_)
                 | PassId::VolumeOverdraw(_)
@@ -172,6 +185,9 @@ mod tests {
                 PassId::ComputationMask(l),
                 PassId::HybridVolumes(l),
                 PassId::HybridVisibility(l),
+                PassId::HybridRayList(l),
+                PassId::HybridRays(l),
+                PassId::HybridRayCount(l),
                 PassId::MaskedVolumeFragments(l),
                 PassId::HybridDiagnostics(l),
                 PassId::LightDiagnostics(l),
@@ -203,7 +219,7 @@ mod tests {
     #[test]
     fn diagnostic_passes_are_the_views_only() {
         let diagnostic: Vec<String> = every_pass().iter().filter(|p| p.diagnostic()).map(|p| p.name()).collect();
-        assert_eq!(diagnostic.len(), 1 + 6 * 2, "{diagnostic:?}");
+        assert_eq!(diagnostic.len(), 1 + 7 * 2, "{diagnostic:?}");
         for p in [PassId::Ambient, PassId::ShadowMap(0), PassId::MapVisibility(0), PassId::HybridVolumes(0)] {
             assert!(!p.diagnostic(), "{p:?} is part of the technique's cost");
         }

@@ -1,19 +1,43 @@
-//! The state every image of a frame was last left in, so that each barrier is emitted from the
-//! image's real last state and never from a hand-kept guess.
+//! The state every image and GPU-written buffer of a frame was last left in, so that each
+//! barrier is emitted from the resource's real last state and never from a hand-kept guess.
 
-use umbra_vk::{vk, Image, ImageState, Recorder};
+use umbra_vk::{vk, Buffer, BufferState, Image, ImageState, Recorder};
 
 /// The last state of every image used so far this frame; an image not seen yet is
-/// [`ImageState::Undefined`] (its content from an earlier frame is discarded).
+/// [`ImageState::Undefined`] (its content from an earlier frame is discarded). Likewise the
+/// buffers the GPU writes, an unseen one [`BufferState::Unknown`].
 #[derive(Default)]
 pub(crate) struct ImageStates {
     last: Vec<(vk::Image, ImageState)>,
+    buffers: Vec<(vk::Buffer, BufferState)>,
 }
 
 impl ImageStates {
     /// Forgets every image (at the start of a frame).
     pub fn clear(&mut self) {
         self.last.clear();
+        self.buffers.clear();
+    }
+
+    /// Records one batched barrier moving every buffer of `uses` into its state: a new state (an
+    /// earlier write made visible to the new stages) or a write before or after. Reads after
+    /// reads in one state need none.
+    pub fn enter_buffers<'a>(&mut self, rec: &mut Recorder<'a>, uses: &[(&'a Buffer, BufferState)]) {
+        let mut barriers = Vec::with_capacity(uses.len());
+        for &(buffer, state) in uses {
+            let entry = match self.buffers.iter().position(|(raw, _)| *raw == buffer.raw) {
+                Some(i) => &mut self.buffers[i],
+                None => {
+                    self.buffers.push((buffer.raw, BufferState::Unknown));
+                    self.buffers.last_mut().expect("just pushed")
+                }
+            };
+            if entry.1 != state || entry.1.writes() || state.writes() {
+                barriers.push((buffer, entry.1, state));
+            }
+            entry.1 = state;
+        }
+        rec.buffer_transition(&barriers);
     }
 
     /// The state `image` was last left in.

@@ -1,12 +1,14 @@
 //! The passes of one hybrid light in the frame graph, in the paper's order (Chan–Durand §3):
 //! step 2 `hybrid classify`, §4 `computation mask`, step 3 `hybrid volumes`, step 4
-//! `hybrid visibility`, then the diagnostics asked for. Each declares the images it uses. The
+//! `hybrid visibility`, then the diagnostics asked for; a ray-traced hybrid light's
+//! `hybrid ray list`, `hybrid classify` and `hybrid rays` (`hybrid::rays`). Each declares the images it uses. The
 //! light's lighting pass (declared by the renderer) reads the visibility image they wrote.
 
 use super::pass::{HybridLight, HybridPass};
+use super::rays::{HybridRays, RaysLight};
 use crate::diagnostics::ClassReadback;
 use crate::frame::{PassId, QueryId, Stage, Use};
-use umbra_vk::{Image, ImageState};
+use umbra_vk::{BufferState, Image, ImageState};
 
 /// The queries of one hybrid light: the mask pass's samples and, with `overdraw`, the volume
 /// fragments the mask lets through.
@@ -80,4 +82,51 @@ pub(crate) fn declare_light<'a>(
         });
     }
     HybridQueries { mask: h.mask_query, fragments }
+}
+
+/// Declares a ray-traced hybrid light's passes (`hybrid::rays`) after its depth bounds
+/// `bounds`: the list emptied, the classification appending the silhouette pixels' rays, the
+/// rays; with `counted`, the list's count copied out for the report.
+pub(crate) fn declare_rays_light<'a>(
+    stage: &mut Stage<'a>,
+    rays: &'a HybridRays,
+    r: RaysLight<'a>,
+    bounds: &'a Image,
+    counted: bool,
+) {
+    let Some((header, entries)) = rays.buffers() else { return };
+    use BufferState::{ComputeRead, FragmentStorage, TransferDst, TransferSrc};
+    use ImageState::{ColorAttachment as Color, DepthStencilAttachment as Depth, FragmentRead as Read};
+    let l = r.light;
+    stage.pass(PassId::HybridRayList(l), &[Use::Buffer(header, TransferDst)], move |cx| {
+        rays.record_reset(cx);
+        Ok(())
+    });
+    let classify = [
+        Use::Image(r.visibility, Color),
+        Use::Image(r.classes, Color),
+        Use::Image(r.depth, Depth),
+        Use::Image(bounds, Read),
+        Use::Buffer(header, FragmentStorage),
+        Use::Buffer(entries, FragmentStorage),
+    ];
+    stage.pass(PassId::HybridClassify(l), &classify, move |cx| {
+        rays.record_classify(cx, &r);
+        Ok(())
+    });
+    let cast = [
+        Use::Image(r.visibility, ImageState::ComputeWrite),
+        Use::Buffer(header, ComputeRead),
+        Use::Buffer(entries, ComputeRead),
+    ];
+    stage.pass(PassId::HybridRays(l), &cast, move |cx| {
+        rays.record_rays(cx, &r);
+        Ok(())
+    });
+    if let (true, Some(out)) = (counted, rays.count_readback(l)) {
+        stage.pass(PassId::HybridRayCount(l), &[Use::Buffer(header, TransferSrc), Use::Readback(out)], move |cx| {
+            rays.record_count(cx, l);
+            Ok(())
+        });
+    }
 }

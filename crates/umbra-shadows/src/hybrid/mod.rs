@@ -22,6 +22,7 @@ pub(crate) mod bounds;
 pub(crate) mod cull;
 pub(crate) mod frame;
 pub(crate) mod pass;
+pub(crate) mod rays;
 mod settings;
 #[cfg(test)]
 mod stencil_bits;

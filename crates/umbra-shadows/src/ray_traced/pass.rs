@@ -38,7 +38,8 @@ struct MeshArrays {
 pub(crate) struct SlotRays {
     /// The generations of the top-level stream, the instance stream and the mesh arrays.
     key: (u64, u64, u64),
-    set: DescriptorSet,
+    /// The BVH's four buffers (the layout of [`RayPass::set_layout`]).
+    pub set: DescriptorSet,
 }
 
 /// The ray pass's pipeline, its layout, the scene's BVH and its mesh arrays on the GPU.
@@ -60,7 +61,9 @@ impl RayPass {
         depth_format: vk::Format,
         depth_bounds: bool,
     ) -> RenderResult<Self> {
-        let (ty, stages) = (vk::DescriptorType::STORAGE_BUFFER, vk::ShaderStageFlags::FRAGMENT);
+        // Read by the ray pass's fragments and the ray-traced hybrid's rays (`hybrid::rays`).
+        let stages = vk::ShaderStageFlags::FRAGMENT | vk::ShaderStageFlags::COMPUTE;
+        let ty = vk::DescriptorType::STORAGE_BUFFER;
         let bindings: Vec<Binding> = (0..4).map(|binding| Binding { binding, ty, stages }).collect();
         let set_layout = DescriptorSetLayout::new(ctx, "ray-traced BVH layout", &bindings)?;
         let push = std::mem::size_of::<DrawPush>() as u32;
@@ -146,6 +149,11 @@ impl RayPass {
     /// The BVH as last prepared.
     pub fn scene(&self) -> &RayScene {
         &self.scene
+    }
+
+    /// The layout of the BVH's set (its four storage buffers).
+    pub fn set_layout(&self) -> &DescriptorSetLayout {
+        &self.set_layout
     }
 
     /// Records light `light`'s shadow rays through the slot's BVH set (inside an open

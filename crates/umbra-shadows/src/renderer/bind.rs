@@ -60,7 +60,10 @@ impl Renderer {
         let classified = light.plan.recorded && needs(light.plan.technique).classified;
         // The stencil too where it decides pixels: the hybrid's, a shadow-volume light's.
         let stencil = light.volumes.is_some();
-        match (self.desc.diagnostics && (light.hybrid() || classified), &kept.classes) {
+        // The ray-traced hybrid's silhouette pixels are decided by rays, which leave no
+        // classification to read back (as ray-traced lights).
+        let hybrid = light.hybrid() && !light.rays;
+        match (self.desc.diagnostics && (hybrid || classified), &kept.classes) {
             (true, Some(r)) if r.stencil.is_some() == stencil => {}
             (true, _) => kept.classes = Some(ClassReadback::new(ctx, width, height, stencil)?),
             (false, _) => kept.classes = None,

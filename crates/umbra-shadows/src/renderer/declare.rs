@@ -13,6 +13,7 @@ use crate::gpu_scene::GpuScene;
 use crate::hybrid::cull::CullingPlan;
 use crate::hybrid::frame::{self as hybrid_frame, HybridQueries};
 use crate::hybrid::pass::HybridLight;
+use crate::hybrid::rays::RaysLight;
 use crate::plan::{tally, CullReason};
 use crate::shadow_volume::build::LightVolumes;
 use crate::shadow_volume::pass::VolumeBindings;
@@ -225,6 +226,10 @@ impl Renderer {
         queries: &mut LightQueries,
     ) -> RenderResult<bool> {
         match (&light.volumes, f.volumes) {
+            _ if light.hybrid_rays() => {
+                self.declare_hybrid_rays(stage, f, light, shadow_set)?;
+                Ok(true)
+            }
             (Some(volumes), _) if light.hybrid() => {
                 queries.hybrid = Some(self.declare_hybrid(stage, f, light, volumes, shadow_set)?);
                 Ok(true)
@@ -273,6 +278,37 @@ impl Renderer {
         let bounds = self.hybrid.bounds.image(Some(l));
         let readback = f.bindings[l].class_readback;
         Ok(hybrid_frame::declare_light(stage, &self.hybrid, h, bounds, self.overdraw.is_some(), readback))
+    }
+
+    /// A ray-traced hybrid light's own passes (`hybrid::rays`), after its map's depth bounds.
+    fn declare_hybrid_rays<'a>(
+        &'a self,
+        stage: &mut Stage<'a>,
+        f: FrameInputs<'a>,
+        light: &'a LightFrame,
+        shadow_set: &'a DescriptorSet,
+    ) -> RenderResult<()> {
+        let l = light.light();
+        let missing = |what: &str| crate::RenderError::InvalidInput {
+            field: format!("light {l}"),
+            why: format!("its ray-traced hybrid passes were declared before {what} was prepared"),
+        };
+        let rays = self.hybrid_rays.as_ref().ok_or_else(|| missing("the ray list"))?;
+        let bvh = &self.slot.rays.as_ref().ok_or_else(|| missing("the BVH"))?.set;
+        let classes = self.hybrid.classes().ok_or_else(|| missing("the classes image"))?;
+        let r = RaysLight {
+            light: l,
+            gpu: f.gpu,
+            scene: f.scene,
+            shadow_set,
+            bvh,
+            visibility: &self.visibility.light(l)?.image,
+            classes,
+            depth: f.depth,
+        };
+        let bounds = self.hybrid.bounds.image(Some(l));
+        hybrid_frame::declare_rays_light(stage, rays, r, bounds, self.own.is_some());
+        Ok(())
     }
 
     /// The images a light's lighting passes sample: its shadow map and silhouette map.

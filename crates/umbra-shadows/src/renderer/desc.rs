@@ -191,7 +191,7 @@ pub(crate) fn check_frame_size(
         ("colour target", frame_target_desc(width, height)),
         ("depth/stencil target", depth_desc(depth_format, width, height)),
         ("hybrid silhouette classes", classes),
-        ("visibility image", crate::visibility::image_desc(width, height)),
+        ("visibility image", crate::visibility::image_desc(width, height, false)),
     ];
     if mask == MaskKind::DepthBounds {
         images.push(("hybrid masked depth", masked_depth));

@@ -70,9 +70,18 @@ impl LightFrame {
         self.plan.light
     }
 
-    /// Whether the hybrid's own passes run for it (a hybrid light with a map and volumes).
+    /// Whether the hybrid's own passes run for it: a hybrid light with a map and volumes, or
+    /// a ray-traced hybrid's with a map and rays (its classification, then rays for volumes).
     pub fn hybrid(&self) -> bool {
-        needs(self.plan.technique).lighting == Lighting::Hybrid && self.map.is_some() && self.volumes.is_some()
+        needs(self.plan.technique).lighting == Lighting::Hybrid
+            && self.map.is_some()
+            && (self.volumes.is_some() || self.rays)
+    }
+
+    /// Whether it is a ray-traced hybrid light whose classification runs (its silhouette
+    /// pixels decided by rays, `crate::hybrid::rays`).
+    pub fn hybrid_rays(&self) -> bool {
+        self.hybrid() && self.rays
     }
 
     /// Whether its technique may write its visibility image this frame: it is recorded and has

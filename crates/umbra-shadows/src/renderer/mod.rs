@@ -29,6 +29,7 @@ use crate::forward::Forward;
 use crate::gbuffer::GBufferPass;
 use crate::gpu_scene::{self, SceneCounts, SceneGeometry};
 use crate::hybrid::pass::HybridPass;
+use crate::hybrid::rays::HybridRays;
 use crate::hybrid::MaskKind;
 use crate::mesh_cache::MeshCache;
 use crate::ray_traced::pass::RayPass;
@@ -63,6 +64,9 @@ pub struct Renderer {
     hybrid: HybridPass,
     /// Ray-traced lights' BVH and shadow rays.
     rays: RayPass,
+    /// The ray-traced hybrid's pipelines and ray list (`None` where the device cannot run it:
+    /// [`crate::hybrid::rays::supported`]).
+    hybrid_rays: Option<HybridRays>,
     /// The visibility image every shadowed light's technique writes and its lighting reads.
     visibility: VisibilityPass,
     /// How volume vertices reach the GPU: as built, or clipped to the view on the host.
@@ -143,6 +147,17 @@ impl Renderer {
         let hybrid =
             HybridPass::new(ctx, &layout, depth_format, &scene_set_layout, &desc.shadow_map, clamp, volume_input)?;
         let rays = RayPass::new(ctx, &scene_set_layout, depth_format, bounds)?;
+        let hybrid_rays = match crate::hybrid::rays::supported(caps) {
+            true => Some(HybridRays::new(
+                ctx,
+                &scene_set_layout,
+                &shadow_set_layout,
+                rays.set_layout(),
+                depth_format,
+                &desc.shadow_map,
+            )?),
+            false => None,
+        };
         let (width, height, shadow) = (desc.width, desc.height, &desc.shadow_map);
         let visibility =
             VisibilityPass::new(ctx, &layout, visibility_set_layout, depth_format, shadow, width, height, bounds)?;
@@ -187,6 +202,7 @@ impl Renderer {
             silhouette_map,
             hybrid,
             rays,
+            hybrid_rays,
             visibility,
             volume_input,
             mask,

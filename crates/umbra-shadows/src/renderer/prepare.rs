@@ -24,6 +24,7 @@ use crate::{RenderError, RenderResult};
 use glam::Mat4;
 use std::sync::Arc;
 use umbra_scene::{Adjacency, Scene};
+use umbra_vk::Image;
 
 impl Renderer {
     /// The camera and bounds of a frame of `scene`. Shadow volumes reach infinity: the frame
@@ -180,7 +181,8 @@ impl Renderer {
             // The hybrid's depth bounds: two layers per face of the map's D32 depth; its depth
             // map only where blocker culling queries it.
             let bounds = needs(plan.technique).map == Some(MapSize::Hybrid);
-            let depth = !bounds || self.desc.hybrid.cull_blockers;
+            let volumes = needs(plan.technique).volumes.is_some();
+            let depth = !bounds || (self.desc.hybrid.cull_blockers && volumes);
             let mut bytes = if depth { map_bytes } else { 0 };
             if silhouette {
                 let map = self.silhouette_map.check(&self.ctx, plan.light, resolution)?;
@@ -272,6 +274,13 @@ impl Renderer {
         for light in lights.iter_mut() {
             light.rays = needs(light.plan.technique).rays && light.plan.recorded && light.plan.shadowed;
             any |= light.rays;
+            if light.hybrid_rays() && self.hybrid_rays.is_none() {
+                return Err(RenderError::UnsupportedLight {
+                    light: light.light(),
+                    technique: light.plan.technique,
+                    why: crate::hybrid::rays::UNSUPPORTED.into(),
+                });
+            }
         }
         if !any {
             return Ok(());
@@ -331,6 +340,15 @@ impl Renderer {
         }
         let shadowed: Vec<bool> = lights.iter().map(LightFrame::may_shadow).collect();
         self.visibility.keep(&self.ctx, &shadowed, &mut self.slot.retired)?;
+        let rays: Vec<(usize, &Image)> = lights
+            .iter()
+            .filter(|l| l.hybrid_rays())
+            .map(|l| Ok((l.light(), &self.visibility.light(l.light())?.image)))
+            .collect::<RenderResult<_>>()?;
+        if let (Some(h), false) = (&mut self.hybrid_rays, rays.is_empty()) {
+            let (width, height, counted) = (self.desc.width, self.desc.height, self.own.is_some());
+            h.prepare(&self.ctx, width, height, &rays, counted, &mut self.slot.retired)?;
+        }
         let keep: Vec<bool> = lights.iter().map(LightFrame::hybrid).collect();
         self.hybrid.bounds.keep_only(&keep, &mut self.slot.retired);
         for light in lights.iter().filter(|l| l.hybrid()) {

@@ -7,8 +7,9 @@ use super::{Frame, Renderer};
 use crate::diagnostics::{LightDiagnostics, PixelClass};
 use crate::frame::PassId;
 use crate::gbuffer::GBufferPass;
+use crate::hybrid::rays::HybridRays;
 use crate::hybrid::{MaskKind, DEPTH_BOUNDS_EPSILON};
-use crate::plan::{FramePlan, HybridReport, LightPlan};
+use crate::plan::{FramePlan, HybridReport, HybridRtReport, LightPlan};
 use crate::report::{FrameReport, SceneSummary};
 use crate::timing::PassReport;
 use crate::RenderResult;
@@ -52,6 +53,9 @@ impl Renderer {
                 plan.hybrid =
                     Some(self.hybrid_report(&plan, light, &passes, samples(h.mask), h.fragments.map(samples)));
             }
+            if light.hybrid_rays() {
+                plan.hybrid_rt = Some(self.hybrid_rt_report(light, &passes)?);
+            }
             if let Some(d) = self.read_diagnostics(light, &bindings[light.light()], &mut plan)? {
                 diagnostics.push(d);
             }
@@ -65,6 +69,26 @@ impl Renderer {
         let report = self.report(scene, adjacency, plans, passes);
         let (width, height) = (self.desc.width, self.desc.height);
         Ok(Frame { width, height, rgba, report, overdraw, diagnostics, gbuffer, visibility })
+    }
+
+    /// A ray-traced hybrid light's figures: its rays, counted by its classification and read
+    /// back (umbra's own frames).
+    fn hybrid_rt_report(&self, light: &LightFrame, passes: &[PassReport]) -> RenderResult<HybridRtReport> {
+        let l = light.light();
+        let rays = self.hybrid_rays.as_ref();
+        let list_capacity = rays.map_or(0, HybridRays::capacity);
+        let count = match rays.and_then(|r| r.count_readback(l)) {
+            Some(readback) => Some(crate::hybrid::rays::read_count(readback)?),
+            None => None,
+        };
+        let image_pixels = u64::from(self.desc.width) * u64::from(self.desc.height);
+        Ok(HybridRtReport {
+            rays: count,
+            ray_fraction: count.map(|n| n as f64 / image_pixels as f64),
+            rays_dropped: count.map(|n| n.saturating_sub(list_capacity)),
+            list_capacity,
+            rays_gpu_ms: passes.iter().find(|p| p.id == PassId::HybridRays(l)).and_then(|p| p.gpu_ms),
+        })
     }
 
     /// A hybrid light's figures: `kept` samples passed its mask pass, `masked` volume
