@@ -101,6 +101,8 @@ pub enum ImageState {
     /// Written by compute shaders as a storage image (`GENERAL` layout; the image needs
     /// `STORAGE` usage).
     ComputeWrite,
+    /// Read by compute shaders as a storage image (`GENERAL` layout, `STORAGE` usage).
+    ComputeRead,
 }
 
 impl ImageState {
@@ -113,7 +115,7 @@ impl ImageState {
             ImageState::FragmentRead => vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
             ImageState::TransferSrc => vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
             ImageState::TransferDst => vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            ImageState::ComputeWrite => vk::ImageLayout::GENERAL,
+            ImageState::ComputeWrite | ImageState::ComputeRead => vk::ImageLayout::GENERAL,
         }
     }
 
@@ -138,6 +140,7 @@ impl ImageState {
             // Copies, blits and clears (vkCmdClear*Image runs in the CLEAR stage, not COPY).
             ImageState::TransferDst => (S::ALL_TRANSFER, A::TRANSFER_WRITE),
             ImageState::ComputeWrite => (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE),
+            ImageState::ComputeRead => (S::COMPUTE_SHADER, A::SHADER_STORAGE_READ),
         }
     }
 }

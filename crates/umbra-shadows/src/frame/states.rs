@@ -75,5 +75,11 @@ impl ImageStates {
 
 /// Whether an image in `state` may be written.
 fn writes(state: ImageState) -> bool {
-    matches!(state, ImageState::ColorAttachment | ImageState::DepthStencilAttachment | ImageState::TransferDst)
+    matches!(
+        state,
+        ImageState::ColorAttachment
+            | ImageState::DepthStencilAttachment
+            | ImageState::TransferDst
+            | ImageState::ComputeWrite
+    )
 }

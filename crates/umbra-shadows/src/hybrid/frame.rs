@@ -94,7 +94,7 @@ pub(crate) fn declare_rays_light<'a>(
     bounds: &'a Image,
     counted: bool,
 ) {
-    let Some((header, entries)) = rays.buffers() else { return };
+    let Some((header, entries, pixel_rays)) = rays.list() else { return };
     use BufferState::{ComputeRead, FragmentStorage, TransferDst, TransferSrc};
     use ImageState::{ColorAttachment as Color, DepthStencilAttachment as Depth, FragmentRead as Read};
     let l = r.light;
@@ -105,6 +105,7 @@ pub(crate) fn declare_rays_light<'a>(
     let classify = [
         Use::Image(r.visibility, Color),
         Use::Image(r.classes, Color),
+        Use::Image(pixel_rays, Color),
         Use::Image(r.depth, Depth),
         Use::Image(bounds, Read),
         Use::Buffer(header, FragmentStorage),
@@ -116,6 +117,7 @@ pub(crate) fn declare_rays_light<'a>(
     });
     let cast = [
         Use::Image(r.visibility, ImageState::ComputeWrite),
+        Use::Image(pixel_rays, ImageState::ComputeRead),
         Use::Buffer(header, ComputeRead),
         Use::Buffer(entries, ComputeRead),
     ];

@@ -26,8 +26,8 @@ use crate::RenderResult;
 use umbra_scene::Scene;
 use umbra_vk::{
     vk, Binding, Buffer, BufferDesc, Capabilities, ColorAttachment, ColorTarget, ComputePipeline, Context,
-    DepthAttachment, DescriptorSet, DescriptorSetLayout, GraphicsPipeline, Image, PipelineLayout, RenderTargets,
-    Resource,
+    DepthAttachment, DescriptorSet, DescriptorSetLayout, GraphicsPipeline, Image, ImageDesc, PipelineLayout,
+    RenderTargets, Resource,
 };
 
 /// Bytes of one list entry (`RayEntry`: origin, pixel, direction, extent).
@@ -48,14 +48,20 @@ pub(crate) const UNSUPPORTED: &str = "the ray-traced hybrid needs fragmentStores
      shaderStorageImageExtendedFormats and a graphics queue that runs compute; use ray_traced";
 
 /// The list of one frame's rays (shared by the hybrid-RT lights of a frame, one after the other,
-/// and by frames in flight: the frame graph orders every use).
+/// and by frames in flight: the frame graph orders every use), and per pixel the index + 1 of
+/// the ray that decides it (R32_UINT, written as the classification's third attachment: the
+/// later fragment in primitive order wins, as in every visibility pass).
 struct RayList {
     /// Rays it holds.
     capacity: u64,
     header: Buffer,
     entries: Buffer,
     set: DescriptorSet,
+    pixel_rays: Image,
 }
+
+/// The format of the per-pixel ray index.
+const PIXEL_RAYS_FORMAT: vk::Format = vk::Format::R32_UINT;
 
 /// The pipelines, the ray list and the per-light sets of the ray-traced hybrid.
 pub(crate) struct HybridRays {
@@ -104,16 +110,20 @@ impl HybridRays {
         let both = vk::ShaderStageFlags::FRAGMENT | vk::ShaderStageFlags::COMPUTE;
         let list = [0, 1].map(|binding| Binding { binding, ty: storage, stages: both });
         let list_layout = DescriptorSetLayout::new(ctx, "hybrid ray list layout", &list)?;
-        let image =
-            Binding { binding: 0, ty: vk::DescriptorType::STORAGE_IMAGE, stages: vk::ShaderStageFlags::COMPUTE };
-        let output_layout = DescriptorSetLayout::new(ctx, "hybrid ray output layout", &[image])?;
+        let (ty, stages) = (vk::DescriptorType::STORAGE_IMAGE, vk::ShaderStageFlags::COMPUTE);
+        let images = [0, 1].map(|binding| Binding { binding, ty, stages });
+        let output_layout = DescriptorSetLayout::new(ctx, "hybrid ray output layout", &images)?;
         let push = std::mem::size_of::<DrawPush>() as u32;
         let sets = [scene_set_layout, shadow_set_layout, &list_layout];
         let classify_layout = PipelineLayout::new(ctx, "hybrid classify (rays) layout", &sets, push)?;
         let spec = [(1, u32::from(shadow.outside_lit))];
         let frag = umbra_shaders::hybrid::CLASSIFY_RAYS_FRAG;
         let mut desc = forward::surface_pass_desc("hybrid classify (rays)", frag, depth_format, &spec);
-        let targets = [ColorTarget::opaque(VISIBILITY_FORMAT), ColorTarget::opaque(crate::COLOR_FORMAT)];
+        let targets = [
+            ColorTarget::opaque(VISIBILITY_FORMAT),
+            ColorTarget::opaque(crate::COLOR_FORMAT),
+            ColorTarget::opaque(PIXEL_RAYS_FORMAT),
+        ];
         desc.color_targets = &targets;
         let classify = GraphicsPipeline::new(ctx, &classify_layout, &desc)?;
         let sets = [bvh_layout, &list_layout, &output_layout];
@@ -146,10 +156,16 @@ impl HybridRays {
     ) -> RenderResult<()> {
         let range = u64::from(ctx.capabilities().max_storage_buffer_range);
         let capacity = (u64::from(width) * u64::from(height)).min(range / ENTRY_BYTES).max(1);
-        if self.list.as_ref().is_none_or(|l| l.capacity != capacity) {
+        let fits = self.list.as_ref().is_some_and(|l| {
+            l.capacity == capacity && (l.pixel_rays.desc.width, l.pixel_rays.desc.height) == (width, height)
+        });
+        if !fits {
             retired.take(&mut self.list);
-            self.list = Some(self.make_list(ctx, capacity)?);
+            // Every light's output set names the old list's pixel image.
+            self.outputs.iter_mut().for_each(|o| retired.take(o));
+            self.list = Some(self.make_list(ctx, capacity, width, height)?);
         }
+        let Some(list) = &self.list else { return Ok(()) };
         let n = lights.iter().map(|&(l, _)| l + 1).max().unwrap_or(0);
         if self.outputs.len() < n {
             self.outputs.resize_with(n, || None);
@@ -158,7 +174,7 @@ impl HybridRays {
         for &(l, image) in lights {
             if self.outputs[l].as_ref().is_none_or(|(raw, _)| *raw != image.raw) {
                 retired.take(&mut self.outputs[l]);
-                let resource = [Resource::StorageImage(image.view)];
+                let resource = [Resource::StorageImage(image.view), Resource::StorageImage(list.pixel_rays.view)];
                 let name = format!("hybrid ray output (light {l})");
                 self.outputs[l] = Some((image.raw, DescriptorSet::new(ctx, &name, &self.output_layout, &resource)?));
             }
@@ -170,7 +186,7 @@ impl HybridRays {
         Ok(())
     }
 
-    fn make_list(&self, ctx: &Context, capacity: u64) -> RenderResult<RayList> {
+    fn make_list(&self, ctx: &Context, capacity: u64, width: u32, height: u32) -> RenderResult<RayList> {
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::INDIRECT_BUFFER
             | vk::BufferUsageFlags::TRANSFER_DST
@@ -180,12 +196,16 @@ impl HybridRays {
         let entries = Buffer::new(ctx, "hybrid ray list", BufferDesc::gpu_only(capacity * ENTRY_BYTES, usage))?;
         let resources = [Resource::Buffer(&header), Resource::Buffer(&entries)];
         let set = DescriptorSet::new(ctx, "hybrid ray list", &self.list_layout, &resources)?;
-        Ok(RayList { capacity, header, entries, set })
+        let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::STORAGE;
+        let desc = ImageDesc::new_2d(PIXEL_RAYS_FORMAT, width, height).usage(usage);
+        let pixel_rays = Image::new(ctx, "hybrid pixel rays", desc)?;
+        Ok(RayList { capacity, header, entries, set, pixel_rays })
     }
 
-    /// The list's header and entries (after [`Self::prepare`]), for the passes' declarations.
-    pub fn buffers(&self) -> Option<(&Buffer, &Buffer)> {
-        self.list.as_ref().map(|l| (&l.header, &l.entries))
+    /// The list's header, entries and per-pixel ray index (after [`Self::prepare`]), for the
+    /// passes' declarations.
+    pub fn list(&self) -> Option<(&Buffer, &Buffer, &Image)> {
+        self.list.as_ref().map(|l| (&l.header, &l.entries, &l.pixel_rays))
     }
 
     /// Rays the list holds.
@@ -212,6 +232,7 @@ impl HybridRays {
         let color = [
             ColorAttachment { image: r.visibility, clear: Some([0.0; 4]) },
             ColorAttachment { image: r.classes, clear: Some([0.0; 4]) },
+            ColorAttachment { image: &list.pixel_rays, clear: Some([0.0; 4]) },
         ];
         cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(DepthAttachment::keep(r.depth)) });
         cx.rec.bind_pipeline(&self.classify);
