@@ -17,6 +17,9 @@ use std::marker::PhantomData;
 /// How long a submission may run before umbra reports `VK_TIMEOUT` (software drivers are slow).
 const SUBMIT_TIMEOUT_NS: u64 = 300_000_000_000;
 
+/// The stages and accesses on one side of a memory dependency.
+type StageAccess = (vk::PipelineStageFlags2, vk::AccessFlags2);
+
 /// One vertex binding of [`Recorder::bind_vertex_streams`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct VertexStreamBinding {
@@ -239,14 +242,19 @@ impl<'a> Recorder<'a> {
         unsafe { self.device().cmd_pipeline_barrier2(self.cmd, &dep) };
     }
 
-    /// Moves buffers between uses with one batched barrier (every transition is a memory
-    /// dependency: callers pass only those with a write on either side).
+    /// Moves buffers between uses with one batched barrier, each a memory dependency from its
+    /// old use's stages and accesses to its new one's.
     pub fn buffer_transition(&mut self, buffers: &[(&'a Buffer, BufferState, BufferState)]) {
-        let barriers: Vec<_> = buffers
+        let scopes: Vec<_> = buffers.iter().map(|&(b, from, to)| (b, from.stage_access(), to.stage_access())).collect();
+        self.buffer_barriers(&scopes);
+    }
+
+    /// One batched barrier of buffer memory dependencies, each whole buffer from its
+    /// (stages, accesses) to its (stages, accesses).
+    fn buffer_barriers(&mut self, scopes: &[(&'a Buffer, StageAccess, StageAccess)]) {
+        let barriers: Vec<_> = scopes
             .iter()
-            .map(|&(buffer, from, to)| {
-                let (src_stage, src_access) = from.stage_access();
-                let (dst_stage, dst_access) = to.stage_access();
+            .map(|&(buffer, (src_stage, src_access), (dst_stage, dst_access))| {
                 vk::BufferMemoryBarrier2::default()
                     .src_stage_mask(src_stage)
                     .src_access_mask(src_access)
@@ -289,25 +297,10 @@ impl<'a> Recorder<'a> {
     /// Makes the transfer writes into `buffers` (copies into readbacks) visible to the host
     /// once the submission's fence has signalled: one batched barrier.
     pub fn transfer_to_host(&mut self, buffers: &[&'a Buffer]) {
-        let barriers: Vec<_> = buffers
-            .iter()
-            .map(|b| {
-                vk::BufferMemoryBarrier2::default()
-                    .src_stage_mask(vk::PipelineStageFlags2::ALL_TRANSFER)
-                    .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-                    .dst_stage_mask(vk::PipelineStageFlags2::HOST)
-                    .dst_access_mask(vk::AccessFlags2::HOST_READ)
-                    .buffer(b.raw)
-                    .offset(0)
-                    .size(vk::WHOLE_SIZE)
-            })
-            .collect();
-        if barriers.is_empty() {
-            return;
-        }
-        let dep = vk::DependencyInfo::default().buffer_memory_barriers(&barriers);
-        // SAFETY: the buffers are alive for 'a; a barrier in a recording command buffer.
-        unsafe { self.device().cmd_pipeline_barrier2(self.cmd, &dep) };
+        let transfer = (vk::PipelineStageFlags2::ALL_TRANSFER, vk::AccessFlags2::TRANSFER_WRITE);
+        let host = (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ);
+        let scopes: Vec<_> = buffers.iter().map(|&b| (b, transfer, host)).collect();
+        self.buffer_barriers(&scopes);
     }
 
     /// Begins dynamic rendering over the full extent of the first attachment.
