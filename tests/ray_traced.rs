@@ -158,3 +158,48 @@ fn moving_caster(ctx: &umbra::vk::Context, technique: Technique) {
         assert!(builds.windows(2).all(|w| w[1].1 == w[0].1 + 1), "one top level per move: {builds:?}");
     }
 }
+
+#[test]
+fn diagnostics_count_the_rays_and_how_far_they_walk() {
+    common::with_context(|ctx| {
+        let scene = umbra::scene::load("cubes").expect("cubes");
+        for technique in RAY_TECHNIQUES {
+            traversal_counted(ctx, &with_technique(&scene, technique));
+        }
+    });
+}
+
+/// With diagnostics, each ray-casting light reports its rays and their walk through the BVH,
+/// and the frame's visibility is the one it has without them.
+fn traversal_counted(ctx: &umbra::vk::Context, scene: &Scene) {
+    let plain = Renderer::new(ctx, desc()).and_then(|mut r| r.render(scene)).expect("frame");
+    let counted = RendererDesc { diagnostics: true, ..desc() };
+    let frame = Renderer::new(ctx, counted).and_then(|mut r| r.render(scene)).expect("frame with diagnostics");
+    let technique = scene.lights[0].technique.name();
+    for (a, b) in plain.visibility.iter().zip(&frame.visibility) {
+        assert!(a.shadow_mask() == b.shadow_mask(), "{technique}: diagnostics changed light {}'s visibility", a.light);
+    }
+    let pixels = u64::from(frame.width) * u64::from(frame.height);
+    for l in frame.report.lights.iter().filter(|l| l.shadowed) {
+        let t = l.ray_traced.and_then(|r| r.traversal).expect("traversal counted with diagnostics");
+        println!(
+            "{technique} light {}: {} rays, nodes per ray {:.1} (p95 {}), triangles per ray {:.2} (p95 {})",
+            l.light, t.rays, t.nodes_mean, t.nodes_p95, t.triangles_mean, t.triangles_p95
+        );
+        match l.hybrid_rt {
+            // The counted twin casts the list the technique cast: its entries less those of a
+            // pixel a later fragment appended again (a handful along silhouettes).
+            Some(h) => {
+                let listed = h.rays.expect("rays listed");
+                assert!(t.rays <= listed && t.rays * 100 >= listed * 95, "light {}: {} of {listed}", l.light, t.rays);
+            }
+            // One ray per receiver fragment: a good part of the image is floor and cubes.
+            None => assert!(t.rays > pixels / 4 && t.rays <= pixels, "light {}: {} rays", l.light, t.rays),
+        }
+        // Every ray tests at least the top level's root; p95 is a count some ray reached.
+        assert!(t.nodes_mean >= 1.0 && t.nodes_p95 >= 1, "light {}: {t:?}", l.light);
+        assert!(t.triangles_mean >= 0.0 && (t.nodes_p95 as f64) < 1e6, "light {}: {t:?}", l.light);
+    }
+    // Without diagnostics nothing is counted.
+    assert!(plain.report.lights.iter().all(|l| l.ray_traced.is_none_or(|r| r.traversal.is_none())));
+}

@@ -48,6 +48,16 @@ layout(set = BVH_SET, binding = 3, std430) readonly buffer Triangles {
 // level is enough.
 const uint MAX_STACK = 64u;
 
+// With RAY_STATS defined (the diagnostics' `ray stats N` passes, ray/stats.glsl), the nodes and
+// triangles this invocation's walk visited; otherwise RAY_COUNT compiles to nothing.
+#ifdef RAY_STATS
+uint ray_nodes = 0u;
+uint ray_triangles = 0u;
+#define RAY_COUNT(counter) ++counter
+#else
+#define RAY_COUNT(counter)
+#endif
+
 // 1 + 2 gamma_3 (gamma_n = n eps / (1 - n eps), eps = 2^-24): the far slab distance widened so
 // rounding never drops a box the ray touches (Ize 2013).
 const float WIDEN = 1.0 + 2.0 * (3.0 * 5.9604645e-8) / (1.0 - 3.0 * 5.9604645e-8);
@@ -131,11 +141,13 @@ bool occluded_in(BvhInstance inst, vec3 origin, vec3 dir, float t_max) {
     stack[sp++] = 0u;
     while (sp > 0u) {
         BvhNode n = mesh_nodes[inst.node_offset + stack[--sp]];
+        RAY_COUNT(ray_nodes);
         if (!slab_hits(n, o, inv, t_max)) {
             continue;
         }
         if (n.count > 0u) {
             for (uint k = 0u; k < n.count; ++k) {
+                RAY_COUNT(ray_triangles);
                 if (triangle_hits(r, triangles[inst.triangle_offset + n.first + k], t_max)) {
                     return true;
                 }
@@ -156,6 +168,7 @@ bool ray_occluded(vec3 origin, vec3 dir, float t_max) {
     stack[sp++] = 0u;
     while (sp > 0u) {
         BvhNode n = top_nodes[stack[--sp]];
+        RAY_COUNT(ray_nodes);
         if (!slab_hits(n, origin, inv, t_max)) {
             continue;
         }

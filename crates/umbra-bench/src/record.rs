@@ -43,7 +43,7 @@ impl Spread {
 pub struct Config {
     /// Scene name as given to `--scenes`.
     pub scene: String,
-    /// Short technique name: `sm`, `silmap`, `sv` or `hybrid`.
+    /// Short technique name: `sm`, `silmap`, `sv`, `hybrid`, `rt` or `hybrid-rt`.
     pub technique: &'static str,
     /// Shadow-map size (sm, silmap, hybrid).
     pub sm_size: Option<u32>,
@@ -99,6 +99,30 @@ pub struct Fill {
     pub silhouette_fraction: Option<f64>,
 }
 
+/// Shadow rays of the last frame (ray-traced and ray-traced hybrid lights, with the
+/// renderer's diagnostics), over the scene's lights.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Rays {
+    /// Shadow rays cast.
+    pub rays: u64,
+    /// Rays per image pixel.
+    pub ray_fraction: f64,
+    /// BVH nodes a ray tested, mean over every ray.
+    pub nodes_mean: f64,
+    /// The largest light's 95th percentile of nodes per ray.
+    pub nodes_p95: u64,
+    /// Triangles a ray tested, mean over every ray.
+    pub triangles_mean: f64,
+    /// The largest light's 95th percentile of triangles per ray.
+    pub triangles_p95: u64,
+    /// Bytes of the BVH on the GPU (both levels and the triangles).
+    pub bvh_bytes: u64,
+    /// Host milliseconds building the meshes' BVHs, in the first frame.
+    pub mesh_build_ms: f64,
+    /// Host milliseconds building the top level, in the first frame.
+    pub top_build_ms: f64,
+}
+
 /// Accuracy against the exact reference, summed over the scene's lights.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct Accuracy {
@@ -149,6 +173,8 @@ pub struct Record {
     pub cpu_silhouette_ms: Option<Spread>,
     /// Fill counts.
     pub fill: Fill,
+    /// Shadow rays (ray-casting techniques).
+    pub rays: Option<Rays>,
     /// Against the reference.
     pub accuracy: Accuracy,
     /// The error image, relative to the output folder.
@@ -200,7 +226,7 @@ pub struct Results {
 }
 
 /// The CSV header, one column per flat field of a [`Record`].
-pub const CSV_HEADER: [&str; 25] = [
+pub const CSV_HEADER: [&str; 30] = [
     "scene",
     "technique",
     "sm_size",
@@ -217,6 +243,11 @@ pub const CSV_HEADER: [&str; 25] = [
     "volume_overdraw",
     "masked_volume_fragments",
     "silhouette_fraction",
+    "rays",
+    "nodes_per_ray_mean",
+    "nodes_per_ray_p95",
+    "triangles_per_ray_mean",
+    "triangles_per_ray_p95",
     "compared_pixels",
     "wrong_fraction",
     "false_shadow_fraction",
@@ -253,6 +284,11 @@ impl Record {
             opt(self.fill.volume_overdraw),
             opt(self.fill.masked_volume_fragments),
             opt(self.fill.silhouette_fraction),
+            opt(self.rays.map(|r| r.rays)),
+            opt(self.rays.map(|r| r.nodes_mean)),
+            opt(self.rays.map(|r| r.nodes_p95)),
+            opt(self.rays.map(|r| r.triangles_mean)),
+            opt(self.rays.map(|r| r.triangles_p95)),
             a.all.compared.to_string(),
             a.wrong_fraction.to_string(),
             a.false_shadow_fraction.to_string(),

@@ -58,6 +58,35 @@ pub fn table(records: &[&Record]) -> String {
     s
 }
 
+/// The shadow rays of `records` (one scene) that cast any, `None` without.
+pub fn rays_table(records: &[&Record]) -> Option<String> {
+    let rows: Vec<_> = records.iter().filter_map(|r| r.rays.map(|rays| (r, rays))).collect();
+    if rows.is_empty() {
+        return None;
+    }
+    let mut s = String::from(
+        "| configuration | rays | rays per pixel % | BVH nodes per ray mean (p95) | triangles per ray mean (p95) | BVH KiB | BVH build ms (meshes + top) |\n\
+         | --- | --- | --- | --- | --- | --- | --- |\n",
+    );
+    for (r, x) in rows {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {:.1} ({}) | {:.2} ({}) | {:.0} | {:.2} + {:.3} |",
+            r.config.label(),
+            x.rays,
+            pct(x.ray_fraction),
+            x.nodes_mean,
+            x.nodes_p95,
+            x.triangles_mean,
+            x.triangles_p95,
+            x.bvh_bytes as f64 / 1024.0,
+            x.mesh_build_ms,
+            x.top_build_ms,
+        );
+    }
+    Some(s)
+}
+
 /// The whole summary, with links to the plots written beside it.
 pub fn markdown(results: &Results, scenes: &[String], plots: &[(String, Vec<String>)]) -> String {
     let mut s = String::new();
@@ -95,6 +124,11 @@ pub fn markdown(results: &Results, scenes: &[String], plots: &[(String, Vec<Stri
         }
         s.push_str(&table(&records));
         s.push('\n');
+        if let Some(rays) = rays_table(&records) {
+            let _ = writeln!(s, "Shadow rays (last frame, counted by the diagnostics' `ray stats` passes):\n");
+            s.push_str(&rays);
+            s.push('\n');
+        }
     }
     if !results.skipped.is_empty() {
         let _ = writeln!(s, "## Skipped\n");

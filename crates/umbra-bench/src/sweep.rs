@@ -1,7 +1,7 @@
 //! The sweep: every (scene, technique, option) configuration rendered for warm-up plus N
 //! frames, timed per pass, and its last frame scored against the exact reference.
 
-use crate::record::{Accuracy, Config, Fill, NoCull, PassTime, Record, Skipped, Spread};
+use crate::record::{Accuracy, Config, Fill, NoCull, PassTime, Rays, Record, Skipped, Spread};
 use crate::{BenchError, BenchResult};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -143,7 +143,7 @@ pub fn measure(
         light.technique = technique;
     }
     let desc = renderer_desc(config, size.0, size.1)?;
-    let timed = match run_frames(ctx, desc, &scene, warmup, frames)? {
+    let Rendered { timed, first_bvh } = match run_frames(ctx, desc, &scene, warmup, frames)? {
         Ok(t) => t,
         Err(reason) => return Ok(Err(reason)),
     };
@@ -153,9 +153,9 @@ pub fn measure(
             Ok(t) => t,
             Err(reason) => return Ok(Err(reason)),
         };
-        let Some(other) = unplanned.last() else { return Err(BenchError::Usage("no frame rendered".into())) };
+        let Some(other) = unplanned.timed.last() else { return Err(BenchError::Usage("no frame rendered".into())) };
         Some(NoCull {
-            gpu_ms: total_gpu(&unplanned),
+            gpu_ms: total_gpu(&unplanned.timed),
             recorded_passes: other.report.passes.len(),
             identical: other.rgba == last.rgba,
         })
@@ -176,12 +176,21 @@ pub fn measure(
         passes: pass_times(&timed),
         cpu_silhouette_ms: Spread::of(&timed.iter().filter_map(cpu_silhouette_ms).collect::<Vec<_>>()),
         fill: fill(last),
+        rays: rays(last, first_bvh),
         accuracy,
         error_image: format!("images/{}-error.png", config.id()),
         recorded_passes: r.passes.len(),
         no_cull,
     };
     Ok(Ok(Measured { record, image: last.rgba.clone(), error_image }))
+}
+
+/// A configuration's frames.
+struct Rendered {
+    /// The frames after the warm-up.
+    timed: Vec<Frame>,
+    /// The first frame's BVH build milliseconds (meshes, top level), where it cast rays.
+    first_bvh: Option<(f64, f64)>,
 }
 
 /// Renders `warmup` discarded frames, then `frames` kept ones (at least one).
@@ -191,22 +200,27 @@ fn run_frames(
     scene: &Scene,
     warmup: usize,
     frames: usize,
-) -> BenchResult<Result<Vec<Frame>, String>> {
+) -> BenchResult<Result<Rendered, String>> {
     let mut renderer = match Renderer::new(ctx, desc) {
         Ok(r) => r,
         Err(e) => return unsupported_or(e),
     };
     let mut timed: Vec<Frame> = Vec::with_capacity(frames);
+    let mut first_bvh = None;
     for i in 0..warmup + frames.max(1) {
         let frame = match renderer.render(scene) {
             Ok(f) => f,
             Err(e) => return unsupported_or(e),
         };
+        if i == 0 {
+            let built = frame.report.lights.iter().find_map(|l| l.ray_traced);
+            first_bvh = built.map(|r| (r.mesh_build_ms, r.top_build_ms));
+        }
         if i >= warmup {
             timed.push(frame);
         }
     }
-    Ok(Ok(timed))
+    Ok(Ok(Rendered { timed, first_bvh }))
 }
 
 /// The spread of the frames' total GPU times.
@@ -293,6 +307,29 @@ fn fill(frame: &Frame) -> Fill {
         masked_volume_fragments: masked,
         silhouette_fraction: (!fractions.is_empty()).then(|| fractions.iter().sum()),
     }
+}
+
+/// The shadow rays of every ray-casting light (with their traversal counted) and the BVH's
+/// first build (`built`, meshes and top level), `None` without.
+fn rays(frame: &Frame, built: Option<(f64, f64)>) -> Option<Rays> {
+    let lights: Vec<_> = frame.report.lights.iter().filter_map(|l| l.ray_traced).collect();
+    let first = lights.first()?;
+    let walks: Vec<_> = lights.iter().filter_map(|r| r.traversal).collect();
+    let rays: u64 = walks.iter().map(|t| t.rays).sum();
+    let mean = |f: fn(&umbra_shadows::TraversalReport) -> f64| {
+        walks.iter().map(|t| f(t) * t.rays as f64).sum::<f64>() / rays.max(1) as f64
+    };
+    Some(Rays {
+        rays,
+        ray_fraction: rays as f64 / (f64::from(frame.width) * f64::from(frame.height)),
+        nodes_mean: mean(|t| t.nodes_mean),
+        nodes_p95: walks.iter().map(|t| t.nodes_p95).max().unwrap_or(0),
+        triangles_mean: mean(|t| t.triangles_mean),
+        triangles_p95: walks.iter().map(|t| t.triangles_p95).max().unwrap_or(0),
+        bvh_bytes: first.bvh_bytes,
+        mesh_build_ms: built.map_or(0.0, |b| b.0),
+        top_build_ms: built.map_or(0.0, |b| b.1),
+    })
 }
 
 /// Every light's visibility image against the reference from the frame's own G-buffer; writes the first

@@ -47,6 +47,7 @@ pub use plan::{
     CasterMode, CullReason, Culled, FramePlan, HybridReport, HybridRtReport, LightPlan, RayTracedReport,
     ShadowMapReport, ShadowVolumeReport, SilhouetteMapReport,
 };
+pub use ray_traced::TraversalReport;
 pub use renderer::{Frame, Renderer, RendererDesc, COLOR_FORMAT};
 pub use report::{FrameReport, MeshTopology, SceneSummary, TopologySource, VolumeConstruction};
 pub use shadow_map::{DepthBias, ShadowFilter, ShadowMapSettings};

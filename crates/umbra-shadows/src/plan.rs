@@ -269,6 +269,9 @@ pub struct RayTracedReport {
     pub mesh_build_ms: f64,
     /// See `mesh_build_ms`.
     pub top_build_ms: f64,
+    /// How far this light's rays walked the BVH (with `RendererDesc::diagnostics`, in umbra's
+    /// own frames; `None` otherwise, or when it cast no ray).
+    pub traversal: Option<crate::ray_traced::TraversalReport>,
 }
 
 impl RayTracedReport {
@@ -283,6 +286,7 @@ impl RayTracedReport {
             top_builds: scene.stats.top_builds,
             mesh_build_ms: scene.stats.mesh_build_ms,
             top_build_ms: scene.stats.top_build_ms,
+            traversal: None,
         }
     }
 }

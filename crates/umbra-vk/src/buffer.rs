@@ -190,6 +190,8 @@ pub enum BufferState {
     FragmentStorage,
     /// Read by compute shaders as a storage buffer and as indirect dispatch arguments.
     ComputeRead,
+    /// Read and written (atomics) by compute shaders as a storage buffer.
+    ComputeStorage,
 }
 
 impl BufferState {
@@ -205,11 +207,18 @@ impl BufferState {
             BufferState::ComputeRead => {
                 (S::DRAW_INDIRECT | S::COMPUTE_SHADER, A::INDIRECT_COMMAND_READ | A::SHADER_STORAGE_READ)
             }
+            BufferState::ComputeStorage => (S::COMPUTE_SHADER, A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE),
         }
     }
 
     /// Whether a use in this state may write.
     pub fn writes(self) -> bool {
-        matches!(self, BufferState::Unknown | BufferState::TransferDst | BufferState::FragmentStorage)
+        matches!(
+            self,
+            BufferState::Unknown
+                | BufferState::TransferDst
+                | BufferState::FragmentStorage
+                | BufferState::ComputeStorage
+        )
     }
 }

@@ -62,6 +62,13 @@ pub enum PassId {
     SilhouetteDiagnostics(usize),
     /// Diagnostic: a light's visibility image copied out (`RendererDesc::read_visibility`).
     VisibilityReadback(usize),
+    /// Diagnostic: the shadow rays' counters emptied (`crate::ray_traced::stats`).
+    RayStatsReset,
+    /// Diagnostic: a ray-traced or hybrid-RT light's rays cast again, counting the BVH nodes
+    /// and triangles each visits.
+    RayStats(usize),
+    /// Diagnostic: the shadow rays' counters copied out.
+    RayStatsReadback,
     /// The colour target copied out.
     Readback,
     /// An engine's frame: the lights' visibility images made readable by its shaders and its
@@ -100,6 +107,9 @@ impl PassId {
             PassId::VolumeOverdraw(l) => format!("volume overdraw {l}"),
             PassId::SilhouetteDiagnostics(l) => format!("silhouette diagnostics {l}"),
             PassId::VisibilityReadback(l) => format!("visibility readback {l}"),
+            PassId::RayStatsReset => "ray stats reset".into(),
+            PassId::RayStats(l) => format!("ray stats {l}"),
+            PassId::RayStatsReadback => "ray stats readback".into(),
             PassId::Readback => "readback".into(),
             PassId::HandOff => "hand-off".into(),
         }
@@ -114,6 +124,8 @@ impl PassId {
             | PassId::DepthRebuild
             | PassId::GBuffer
             | PassId::Readback
+            | PassId::RayStatsReset
+            | PassId::RayStatsReadback
             | PassId::HandOff => None,
             PassId::ShadowMap(l)
             | PassId::SilhouetteMap(l)
@@ -135,7 +147,8 @@ impl PassId {
             | PassId::LightDiagnostics(l)
             | PassId::VolumeOverdraw(l)
             | PassId::SilhouetteDiagnostics(l)
-            | PassId::VisibilityReadback(l) => Some(l),
+            | PassId::VisibilityReadback(l)
+            | PassId::RayStats(l) => Some(l),
         }
     }
 
@@ -152,6 +165,9 @@ impl PassId {
                 | PassId::VolumeOverdraw(_)
                 | PassId::SilhouetteDiagnostics(_)
                 | PassId::VisibilityReadback(_)
+                | PassId::RayStatsReset
+                | PassId::RayStats(_)
+                | PassId::RayStatsReadback
         )
     }
 }
@@ -170,6 +186,8 @@ mod tests {
             PassId::GBuffer,
             PassId::Readback,
             PassId::HandOff,
+            PassId::RayStatsReset,
+            PassId::RayStatsReadback,
         ];
         for l in 0..2 {
             all.extend([
@@ -194,6 +212,7 @@ mod tests {
                 PassId::VolumeOverdraw(l),
                 PassId::SilhouetteDiagnostics(l),
                 PassId::VisibilityReadback(l),
+                PassId::RayStats(l),
             ]);
         }
         all
@@ -219,7 +238,7 @@ mod tests {
     #[test]
     fn diagnostic_passes_are_the_views_only() {
         let diagnostic: Vec<String> = every_pass().iter().filter(|p| p.diagnostic()).map(|p| p.name()).collect();
-        assert_eq!(diagnostic.len(), 1 + 7 * 2, "{diagnostic:?}");
+        assert_eq!(diagnostic.len(), 3 + 8 * 2, "{diagnostic:?}");
         for p in [PassId::Ambient, PassId::ShadowMap(0), PassId::MapVisibility(0), PassId::HybridVolumes(0)] {
             assert!(!p.diagnostic(), "{p:?} is part of the technique's cost");
         }

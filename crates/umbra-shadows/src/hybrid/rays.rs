@@ -208,6 +208,17 @@ impl HybridRays {
         self.list.as_ref().map(|l| (&l.header, &l.entries, &l.pixel_rays))
     }
 
+    /// The layouts of the list's set and of the per-light output sets (sets 1 and 2 of the rays).
+    pub fn set_layouts(&self) -> [&DescriptorSetLayout; 2] {
+        [&self.list_layout, &self.output_layout]
+    }
+
+    /// The list's set and light `light`'s output set (after [`Self::prepare`]).
+    pub fn sets(&self, light: usize) -> Option<(&DescriptorSet, &DescriptorSet)> {
+        let output = self.outputs.get(light).and_then(Option::as_ref).map(|(_, set)| set)?;
+        self.list.as_ref().map(|l| (&l.set, output))
+    }
+
     /// Rays the list holds.
     pub fn capacity(&self) -> u64 {
         self.list.as_ref().map_or(0, |l| l.capacity)

@@ -18,6 +18,7 @@
 mod bvh;
 pub(crate) mod pass;
 mod scene;
+pub(crate) mod stats;
 mod walk;
 
 #[cfg(test)]
@@ -25,4 +26,5 @@ mod tests;
 
 pub use bvh::{BvhNode, BvhTriangle, MeshBvh};
 pub use scene::{BvhInstance, RayScene, RaySceneStats};
+pub use stats::TraversalReport;
 pub use walk::{WalkStats, MAX_STACK};

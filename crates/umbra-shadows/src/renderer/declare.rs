@@ -188,6 +188,7 @@ impl Renderer {
     ) -> RenderResult<(Vec<LightQueries>, bool)> {
         let mut queries = vec![LightQueries::default(); f.lights.len()];
         let mut overdraw = false;
+        let stats = self.declare_ray_stats_reset(stage, f);
         for light in f.lights.iter().filter(|l| l.plan.recorded) {
             let l = light.light();
             let Some(shadow_set) = &f.bindings[l].shadow_set else { continue };
@@ -209,6 +210,12 @@ impl Renderer {
             queries[l].volume_fragments = self.declare_overdraw(stage, f, light, !overdraw);
             overdraw |= queries[l].volume_fragments.is_some();
             self.declare_silhouette_diagnostics(stage, f, light, &reads);
+            if let (Some(stats), true) = (stats, light.rays) {
+                self.declare_ray_stats(stage, f, light, stats)?;
+            }
+        }
+        if let Some(stats) = stats {
+            self.declare_ray_stats_readback(stage, stats);
         }
         Ok((queries, overdraw))
     }
@@ -552,13 +559,13 @@ impl Renderer {
 }
 
 /// Where a bounded light's passes may draw (its plan's scissor and depth bounds).
-fn light_bounds(light: &LightFrame) -> PassBounds {
+pub(super) fn light_bounds(light: &LightFrame) -> PassBounds {
     PassBounds { scissor: light.plan.scissor, depth: light.plan.depth_bounds }
 }
 
 /// Begins a pass over the frame's surfaces: one colour target (`clear`ed or kept) and the
 /// frame's depth, kept, for the EQUAL test.
-fn over_surfaces<'a>(rec: &mut Recorder<'a>, image: &'a Image, clear: Option<[f32; 4]>, depth: &'a Image) {
+pub(super) fn over_surfaces<'a>(rec: &mut Recorder<'a>, image: &'a Image, clear: Option<[f32; 4]>, depth: &'a Image) {
     let color = [ColorAttachment { image, clear }];
     rec.begin_rendering(&RenderTargets { color: &color, depth: Some(DepthAttachment::keep(depth)) });
 }

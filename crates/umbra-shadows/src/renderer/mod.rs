@@ -15,6 +15,7 @@ mod desc;
 mod engine;
 mod lights;
 mod prepare;
+mod ray_stats;
 mod record;
 mod results;
 mod slot;
@@ -33,6 +34,7 @@ use crate::hybrid::rays::HybridRays;
 use crate::hybrid::MaskKind;
 use crate::mesh_cache::MeshCache;
 use crate::ray_traced::pass::RayPass;
+use crate::ray_traced::stats::RayStats;
 use crate::shadow_map::pass::{self, ShadowMapPass};
 use crate::shadow_volume::pass::{ShadowVolumePass, VolumeInput};
 use crate::shadow_volume::FarPlane;
@@ -67,6 +69,8 @@ pub struct Renderer {
     /// The ray-traced hybrid's pipelines and ray list (`None` where the device cannot run it:
     /// [`crate::hybrid::rays::supported`]).
     hybrid_rays: Option<HybridRays>,
+    /// The shadow rays' counted twins and counters (with `diagnostics`, in umbra's own frames).
+    ray_stats: Option<RayStats>,
     /// The visibility image every shadowed light's technique writes and its lighting reads.
     visibility: VisibilityPass,
     /// How volume vertices reach the GPU: as built, or clipped to the view on the host.
@@ -158,6 +162,16 @@ impl Renderer {
             )?),
             false => None,
         };
+        let ray_stats = match (desc.diagnostics, &own) {
+            (true, Some(_)) => {
+                let listed = hybrid_rays.as_ref().map(|h| {
+                    let [list, output] = h.set_layouts();
+                    [rays.set_layout(), list, output]
+                });
+                Some(RayStats::new(ctx, &scene_set_layout, rays.set_layout(), listed, depth_format, bounds)?)
+            }
+            _ => None,
+        };
         let (width, height, shadow) = (desc.width, desc.height, &desc.shadow_map);
         let visibility =
             VisibilityPass::new(ctx, &layout, visibility_set_layout, depth_format, shadow, width, height, bounds)?;
@@ -203,6 +217,7 @@ impl Renderer {
             hybrid,
             rays,
             hybrid_rays,
+            ray_stats,
             visibility,
             volume_input,
             mask,

@@ -286,6 +286,9 @@ impl Renderer {
             return Ok(());
         }
         self.rays.prepare(&self.ctx, scene, streams, &mut self.slot.rays, &mut self.slot.retired)?;
+        if let Some(stats) = self.ray_stats.as_mut() {
+            stats.prepare(&self.ctx, lights.len(), &mut self.slot.retired)?;
+        }
         let report = RayTracedReport::of(self.rays.scene());
         for light in lights.iter_mut().filter(|l| l.rays) {
             light.plan.ray_traced = Some(report);

@@ -56,6 +56,9 @@ impl Renderer {
             if light.hybrid_rays() {
                 plan.hybrid_rt = Some(self.hybrid_rt_report(light, &passes)?);
             }
+            if let (Some(r), Some(stats)) = (plan.ray_traced.as_mut(), &self.ray_stats) {
+                r.traversal = stats.read(light.light())?;
+            }
             if let Some(d) = self.read_diagnostics(light, &bindings[light.light()], &mut plan)? {
                 diagnostics.push(d);
             }
