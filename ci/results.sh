@@ -4,8 +4,10 @@
 # ICD file UMBRA_EXTRA_ICDS adds), each
 # into docs/results/<device>/ (summary.md, results.csv, results.json) with its plots copied to
 # docs/images/results/<device>/. The reading in docs/results.md is written from these.
-# Installs what it needs first (ci/setup.sh). Takes about 2 minutes on 2 cores after the release
-# build (1 min 49 s measured for both drivers); the first build adds about 15 minutes.
+# Installs what it needs first (ci/setup.sh). Builds the dev profile, as the tests do (umbra at
+# opt-level 1, its dependencies at 2): the GPU times are the driver's whatever umbra's profile,
+# and a release build would add about 15 minutes on 2 cores; the host-side columns (CPU
+# silhouette ms, BVH build ms) are the dev profile's.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -13,7 +15,7 @@ cd "$(dirname "$0")/.."
 source ci/drivers.sh
 export VK_ICD_FILENAMES="$VK_ICD_FILENAMES${UMBRA_EXTRA_ICDS:+:$UMBRA_EXTRA_ICDS}"
 export VK_DRIVER_FILES="$VK_ICD_FILENAMES"
-cargo build --release --locked -p umbra-bench
+cargo build --locked -p umbra-bench
 
 # SwiftShader runs about six times slower than lavapipe here: it gets a smaller sweep.
 sweep_args() {
@@ -27,8 +29,8 @@ for device in ${UMBRA_RESULTS_DEVICES:-llvmpipe swiftshader}; do
     out="target/results/$device"
     rm -rf "$out"
     # shellcheck disable=SC2046
-    UMBRA_DEVICE=$device "$CARGO_TARGET_DIR/release/umbra-bench" sweep $(sweep_args "$device") \
-        --techniques sm,silmap,sv,hybrid --size 512x384 --spot-lights --quiet --out "$out"
+    UMBRA_DEVICE=$device "$CARGO_TARGET_DIR/debug/umbra-bench" sweep $(sweep_args "$device") \
+        --techniques sm,silmap,sv,hybrid,rt,hybrid-rt --size 512x384 --spot-lights --quiet --out "$out"
     mkdir -p "docs/results/$device" "docs/images/results/$device"
     cp "$out/summary.md" "$out/results.csv" "$out/results.json" "docs/results/$device/"
     cp "$out"/*.png "docs/images/results/$device/"

@@ -12,7 +12,8 @@ pub fn assets_dir() -> PathBuf {
         .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets"))
 }
 
-/// The bench's own scene files (`crates/umbra-bench/scenes/`: `sixteen-bunnies.toml`).
+/// The bench's own scene files (`crates/umbra-bench/scenes/`: `one-bunny.toml`,
+/// `four-bunnies.toml` and `sixteen-bunnies.toml`, one bunny mesh instanced).
 pub fn scenes_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes")
 }
@@ -41,4 +42,21 @@ pub fn load(name: &str, spot_lights: bool, light_range: Option<f32>) -> BenchRes
         scene.validate().map_err(scene_error)?;
     }
     Ok(scene)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The scaling scenes load by bare name and hold 1, 4 and 16 instances of one bunny mesh
+    /// (69,451 triangles) on a 12-triangle floor.
+    #[test]
+    fn the_bunny_scenes_instance_one_mesh() {
+        for (name, bunnies) in [("one-bunny.toml", 1), ("four-bunnies.toml", 4), ("sixteen-bunnies.toml", 16)] {
+            let scene = load(name, false, None).expect(name);
+            assert_eq!(scene.meshes.len(), 2, "{name}: the floor and one bunny mesh");
+            assert_eq!(scene.objects.len(), 1 + bunnies, "{name}");
+            assert_eq!(scene.triangle_count(), 12 + 69_451 * bunnies, "{name}");
+        }
+    }
 }
