@@ -11,7 +11,7 @@ mod common;
 
 use glam::{Mat4, Vec3};
 use umbra::scene::{Scene, Technique};
-use umbra::shadows::{Frame, Renderer, RendererDesc};
+use umbra::shadows::{AutoAccuracy, AutoPolicy, Frame, Renderer, RendererDesc};
 use umbra_conformance::judge::judge;
 use umbra_conformance::Judgement;
 use umbra_reference::SceneBvh;
@@ -202,4 +202,26 @@ fn traversal_counted(ctx: &umbra::vk::Context, scene: &Scene) {
     }
     // Without diagnostics nothing is counted.
     assert!(plain.report.lights.iter().all(|l| l.ray_traced.is_none_or(|r| r.traversal.is_none())));
+}
+
+#[test]
+fn auto_asked_for_exact_shadows_is_exact_and_picks_by_the_casters_triangles() {
+    common::with_context(|ctx| {
+        // Both CI drivers are CPU rasterizers: volumes or rays, no classification first.
+        let mut policy = AutoPolicy::for_device(ctx.capabilities());
+        assert!(!policy.classify_first, "{}", ctx.capabilities().device_type);
+        policy.accuracy = AutoAccuracy::Exact;
+        let desc = RendererDesc { auto: Some(policy), ..desc() };
+        for (name, expected) in [("cubes", Technique::ShadowVolume), ("tree", Technique::RayTraced)] {
+            let scene = with_technique(&umbra::scene::load(name).expect("scene"), Technique::Auto);
+            let frame = Renderer::new(ctx, desc).and_then(|mut r| r.render(&scene)).expect("frame");
+            for l in frame.report.lights.iter().filter(|l| l.recorded) {
+                println!("{name} light {}: {:?}", l.light, l.auto_choice);
+                assert_eq!(l.technique, expected, "{name} light {}: {:?}", l.light, l.auto_choice);
+            }
+            let j = judged(ctx, &scene, &frame, expected);
+            println!("{name}: wrong {} of {} (seam {}), unexplained {}", j.wrong, j.compared, j.seam, j.unexplained());
+            assert!(j.compared > 1000 && j.unexplained() == 0, "{name}");
+        }
+    });
 }

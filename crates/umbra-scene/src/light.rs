@@ -25,7 +25,10 @@ pub enum Technique {
     HybridRt,
     /// Chosen per frame by the renderer's planner from what the frame needs: the shadow map
     /// when its texels project no larger than a pixel on every visible receiver
-    /// (Stamminger–Drettakis' ratio, Chan–Durand §6.3), the hybrid otherwise.
+    /// (Stamminger–Drettakis' ratio, Chan–Durand §6.3) and the renderer accepts a map's
+    /// accuracy; otherwise the exact technique a measured cost model finds cheapest (shadow
+    /// volumes for few caster triangles, rays for many; the hybrid or the ray-traced hybrid
+    /// where the device classifies first). See `umbra_shadows::AutoPolicy`.
     Auto,
 }
 

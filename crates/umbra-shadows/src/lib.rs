@@ -12,6 +12,7 @@
 
 #![warn(missing_docs)]
 
+mod auto;
 mod budget;
 mod depth_rebuild;
 pub mod diagnostics;
@@ -38,6 +39,7 @@ mod timing;
 mod view;
 pub mod visibility;
 
+pub use auto::{AutoAccuracy, AutoPolicy};
 pub use budget::{ShadowStorage, DEFAULT_SHADOW_MAP_BUDGET};
 pub use diagnostics::{GBuffer, LightDiagnostics, PixelClass, SilhouetteMapImage};
 pub use error::{RenderError, RenderResult};

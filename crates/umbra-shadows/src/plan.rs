@@ -24,11 +24,9 @@
 
 use crate::hybrid::MaskKind;
 use crate::reach::{self, Clip, Planes, Unreached};
-use crate::shadow_map::frustum;
 use crate::technique::{needs, Casters};
 use crate::view::View;
 use crate::{RenderError, RenderResult};
-use glam::{Mat4, Vec4Swizzles};
 use serde::Serialize;
 use umbra_scene::{Aabb, LightKind, Scene, Technique};
 
@@ -357,6 +355,8 @@ pub(crate) struct PlanInput<'a> {
     /// Shadow-map resolution `auto` lights would get (the light's own size wins); `None`: from
     /// the frame, as the renderer sizes it.
     pub map_resolution: Option<u32>,
+    /// How `auto` lights choose.
+    pub auto: crate::AutoPolicy,
 }
 
 /// Widening of range and cone for shadow-map casters: a lookup's filter reads texels beside
@@ -424,7 +424,7 @@ fn plan_light(
         .collect();
     tally(&mut plan.culled, CullReason::NotACaster, scene.objects.iter().filter(|o| !o.casts_shadows).count());
     if l.technique == Technique::Auto {
-        let (technique, why) = choose_auto(scene, i, input, &view_proj);
+        let (technique, why) = crate::auto::choose(scene, i, input, &view_proj, &input.auto);
         plan.technique = technique;
         plan.auto_choice = Some(why);
     }
@@ -525,52 +525,6 @@ fn pick_casters(
     }
 }
 
-/// `auto`'s choice for light `light`: the shadow map when a texel of its map projects no larger
-/// than a pixel on every visible receiver (Stamminger–Drettakis: the ratio of a texel's world
-/// size where it lands to a pixel's there, Chan–Durand §6.3), the hybrid otherwise. The ratio
-/// is taken at a grid of points through each receiver's box (those in view and in the light's
-/// reach), ignoring surface orientation.
-fn choose_auto(scene: &Scene, light: usize, input: &PlanInput<'_>, view_proj: &Mat4) -> (Technique, String) {
-    /// Grid points per box side.
-    const SAMPLES: usize = 6;
-    let l = &scene.lights[light];
-    let Some(views) = frustum::fit(l, scene, input.boxes, *view_proj) else {
-        return (Technique::ShadowMap, "shadow_map: no caster can shadow a visible receiver".into());
-    };
-    let seen = frustum::Seen { view: input.view, height: input.size.1 };
-    let resolution = l
-        .shadow_map_size
-        .or(input.map_resolution)
-        .unwrap_or_else(|| frustum::resolution_from_frame(&views, seen, input.size.0));
-    let reached = scene.objects.iter().enumerate().filter_map(|(o, object)| {
-        let b = input.boxes.get(o).copied().flatten()?;
-        (object.receives_shadows && reach::light_reaches(l, &b, 0.0).is_ok()).then_some((o, b))
-    });
-    let mut worst: Option<(f32, usize)> = None;
-    seen.for_grid(reached, SAMPLES, |o, p| {
-        let lit = l.bounded_range().is_none_or(|r| p.distance(l.position.xyz()) < r);
-        let Some(texel) = frustum::texel_at(&views.views, p, resolution).filter(|_| lit) else { return };
-        let ratio = texel / seen.pixel_at(p);
-        if worst.is_none_or(|(w, _)| ratio > w) {
-            worst = Some((ratio, o));
-        }
-    });
-    match worst {
-        Some((ratio, o)) if ratio > 1.0 => (
-            Technique::Hybrid,
-            format!(
-                "hybrid: a {resolution}² map's texel covers up to {ratio:.2} pixels on {:?} (Stamminger–Drettakis ratio > 1)",
-                scene.objects[o].name
-            ),
-        ),
-        Some((ratio, _)) => (
-            Technique::ShadowMap,
-            format!("shadow_map: a {resolution}² map's texel covers at most {ratio:.2} pixels on every visible receiver"),
-        ),
-        None => (Technique::ShadowMap, "shadow_map: no visible receiver it reaches".into()),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -580,7 +534,8 @@ mod tests {
     fn input(s: &Scene) -> PlanInput<'static> {
         let boxes: &'static [Option<Aabb>] = Box::leak(s.object_bounds().into_boxed_slice());
         let view: &'static View = Box::leak(Box::new(View::of_camera(&s.camera, 256.0 / 192.0)));
-        PlanInput { boxes, view, size: (256, 192), cull: true, depth_bounds: true, map_resolution: Some(1024) }
+        let auto = crate::AutoPolicy::for_device(&umbra_vk::Capabilities::default());
+        PlanInput { boxes, view, size: (256, 192), cull: true, depth_bounds: true, map_resolution: Some(1024), auto }
     }
 
     #[test]
@@ -635,7 +590,28 @@ mod tests {
         assert_eq!(fine[0].technique, Technique::ShadowMap, "{:?}", fine[0].auto_choice);
         inp.map_resolution = Some(64);
         let coarse = plan_frame(&s, &inp).unwrap();
-        assert_eq!(coarse[0].technique, Technique::Hybrid, "{:?}", coarse[0].auto_choice);
+        // The ball's few hundred triangles: shadow volumes, by the cost model.
+        assert_eq!(coarse[0].technique, Technique::ShadowVolume, "{:?}", coarse[0].auto_choice);
         assert!(coarse[0].auto_choice.as_deref().unwrap().contains("Stamminger"));
+    }
+
+    #[test]
+    fn auto_asked_for_exact_shadows_never_picks_the_map_and_rays_past_the_crossover() {
+        let mut s = umbra_scene::procedural::build("ball").unwrap();
+        s.lights[0].technique = Technique::Auto;
+        let mut inp = input(&s);
+        inp.map_resolution = Some(8192);
+        inp.auto.accuracy = crate::AutoAccuracy::Exact;
+        let exact = plan_frame(&s, &inp).unwrap();
+        assert_eq!(exact[0].technique, Technique::ShadowVolume, "{:?}", exact[0].auto_choice);
+        let triangles: usize =
+            s.objects.iter().filter(|o| o.casts_shadows).map(|o| s.meshes[o.mesh].triangle_count()).sum();
+        inp.auto.ray_tracing_above = triangles - 1;
+        let rays = plan_frame(&s, &inp).unwrap();
+        assert_eq!(rays[0].technique, Technique::RayTraced, "{:?}", rays[0].auto_choice);
+        inp.auto.classify_first = true;
+        assert_eq!(plan_frame(&s, &inp).unwrap()[0].technique, Technique::HybridRt);
+        inp.auto.ray_tracing_above = triangles;
+        assert_eq!(plan_frame(&s, &inp).unwrap()[0].technique, Technique::Hybrid);
     }
 }

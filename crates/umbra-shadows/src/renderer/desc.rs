@@ -1,6 +1,7 @@
 //! What a renderer is created with ([`RendererDesc`]), what a frame returns ([`Frame`]), and the
 //! frame-sized targets checked against the device before anything is made.
 
+use crate::auto::AutoPolicy;
 use crate::budget::DEFAULT_SHADOW_MAP_BUDGET;
 use crate::diagnostics::{GBuffer, LightDiagnostics};
 use crate::gbuffer;
@@ -31,6 +32,9 @@ pub struct RendererDesc {
     pub shadow_volume: ShadowVolumeSettings,
     /// Settings of lights whose technique is `hybrid`.
     pub hybrid: HybridSettings,
+    /// How lights whose technique is `auto` choose theirs (`crate::auto`): `None` (the
+    /// default), [`AutoPolicy::for_device`] of the renderer's device.
+    pub auto: Option<AutoPolicy>,
     /// Render the diagnostic views of every light ([`Frame::diagnostics`]: its per-pixel
     /// classification, hence its shadow mask; silhouette points and map for silhouette-map
     /// lights, the stencil for hybrid and shadow-volume lights) and count silhouette-map
@@ -71,6 +75,7 @@ impl RendererDesc {
             shadow_map: ShadowMapSettings::DEFAULT,
             shadow_volume: ShadowVolumeSettings::default(),
             hybrid: HybridSettings::default(),
+            auto: None,
             diagnostics: false,
             gbuffer: false,
             read_visibility: false,

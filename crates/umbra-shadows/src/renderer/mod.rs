@@ -244,6 +244,12 @@ impl Renderer {
         self.desc
     }
 
+    /// How `auto` lights choose their technique: `RendererDesc::auto`, or the device's default
+    /// ([`crate::AutoPolicy::for_device`]).
+    pub fn auto_policy(&self) -> crate::AutoPolicy {
+        self.desc.auto.unwrap_or_else(|| crate::AutoPolicy::for_device(self.ctx.capabilities()))
+    }
+
     /// The computation mask hybrid lights use on this device.
     pub fn mask(&self) -> MaskKind {
         self.mask

@@ -51,6 +51,7 @@ impl Renderer {
                 cull: self.desc.cull,
                 depth_bounds: self.desc.cull && self.ctx.capabilities().depth_bounds,
                 map_resolution: self.shadow_map.settings().resolution,
+                auto: self.auto_policy(),
             },
         )?;
         Ok(plans

@@ -241,7 +241,12 @@ impl Shadows {
             ));
         }
         self.check_engine_meshes(inputs.lights)?;
-        let hybrid = inputs.lights.iter().position(|l| matches!(l.technique, Technique::Hybrid | Technique::Auto));
+        // `auto` picks the hybrid only where the map classifies first (`AutoPolicy`).
+        let classify_first = self.renderer.auto_policy().classify_first;
+        let hybrid = inputs
+            .lights
+            .iter()
+            .position(|l| l.technique == Technique::Hybrid || (l.technique == Technique::Auto && classify_first));
         if let (Some(i), false) = (hybrid, d.usage.contains(vk::ImageUsageFlags::TRANSFER_SRC)) {
             let why = format!(
                 "needs TRANSFER_SRC: light {i} uses {:?}, whose hybrid classification copies the depth",
