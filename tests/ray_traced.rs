@@ -11,6 +11,7 @@ mod common;
 
 use glam::{Mat4, Vec3};
 use umbra::scene::{Scene, Technique};
+use umbra::shadows::ray_traced::BvhLayout;
 use umbra::shadows::{AutoAccuracy, AutoPolicy, Frame, Renderer, RendererDesc};
 use umbra_conformance::judge::judge;
 use umbra_conformance::Judgement;
@@ -223,5 +224,67 @@ fn auto_asked_for_exact_shadows_is_exact_and_picks_by_the_casters_triangles() {
             println!("{name}: wrong {} of {} (seam {}), unexplained {}", j.wrong, j.compared, j.seam, j.unexplained());
             assert!(j.compared > 1000 && j.unexplained() == 0, "{name}");
         }
+    });
+}
+
+#[test]
+fn the_compressed_wide_bvh_gives_the_binary_bvhs_images() {
+    common::with_context(|ctx| {
+        for name in ["cubes", "cage", "tree", "pins", "plaza"] {
+            let scene = umbra::scene::load(name).expect("scene");
+            for technique in RAY_TECHNIQUES {
+                let scene = with_technique(&scene, technique);
+                let frames = [BvhLayout::Binary, BvhLayout::CompressedWide].map(|bvh| {
+                    let desc = RendererDesc { bvh, diagnostics: true, ..desc() };
+                    Renderer::new(ctx, desc).and_then(|mut r| r.render(&scene)).expect("frame")
+                });
+                let walks: Vec<_> = frames
+                    .iter()
+                    .map(|f| f.report.lights.iter().find_map(|l| l.ray_traced.and_then(|r| r.traversal)))
+                    .collect();
+                let t = technique.name();
+                println!("{name} {t}: binary {:?}\n    cwbvh {:?}", walks[0], walks[1]);
+                let [binary, wide] = &frames;
+                assert!(wide.rgba == binary.rgba, "{name} {t}: the images differ");
+                for (a, b) in binary.visibility.iter().zip(&wide.visibility) {
+                    assert!(a.shadow_mask() == b.shadow_mask(), "{name} {t}: light {}'s visibility differs", a.light);
+                }
+                let (Some(a), Some(b)) = (walks[0], walks[1]) else { panic!("{name} {t}: no traversal counted") };
+                assert_eq!(a.rays, b.rays, "{name} {t}");
+                // Fewer, wider nodes: each one fetched is eight boxes.
+                assert!(b.nodes_mean < a.nodes_mean, "{name} {t}: {b:?} against {a:?}");
+            }
+        }
+    });
+}
+
+#[test]
+fn the_compressed_wide_bvh_gives_the_binary_bvhs_images_on_every_hard_case() {
+    common::with_context(|ctx| {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/hard-cases");
+        let mut cases: Vec<_> =
+            std::fs::read_dir(&dir).expect("hard cases").map(|e| e.expect("entry").path()).collect();
+        cases.sort();
+        let mut compared = 0;
+        for path in cases.iter().filter(|p| p.extension().is_some_and(|e| e == "toml")) {
+            let name = path.file_name().and_then(|n| n.to_str()).unwrap_or_default();
+            let Ok(scene) = umbra::scene::load(path.to_str().expect("path")) else {
+                println!("{name}: refused by the loader (its own test covers it)");
+                continue;
+            };
+            let scene = with_technique(&scene, Technique::RayTraced);
+            let [binary, wide] = [BvhLayout::Binary, BvhLayout::CompressedWide]
+                .map(|bvh| Renderer::new(ctx, RendererDesc { bvh, ..desc() }).and_then(|mut r| r.render(&scene)));
+            match (binary, wide) {
+                (Ok(a), Ok(b)) => {
+                    assert!(a.rgba == b.rgba, "{name}: the images differ");
+                    compared += 1;
+                }
+                (Err(a), Err(b)) => assert_eq!(a.to_string(), b.to_string(), "{name}"),
+                (a, b) => panic!("{name}: binary {:?}, wide {:?}", a.err(), b.err()),
+            }
+        }
+        println!("{compared} hard cases: the same image with either layout");
+        assert!(compared >= 25, "{compared}");
     });
 }

@@ -2,7 +2,9 @@
 // including shader defines it: 1 in the ray pass, 0 in the ray-traced hybrid's rays) and the
 // walk of one shadow ray through it: the same steps as `RayScene::occluded` (ray_traced/walk.rs),
 // which tests them on the host against the exact reference.
-// Layouts mirror `BvhNode`, `BvhInstance` and `BvhTriangle` (std430); change both together.
+// Layouts mirror `BvhNode`, `WideNode`, `BvhInstance` and `BvhTriangle` (std430); change both
+// together. The meshes' nodes are binary or compressed wide (CWBVH, `BvhLayout`), chosen by the
+// specialization constant WIDE_BVH (`BvhLayout::specialization`); the top level is binary.
 #ifndef UMBRA_RAY_BVH_GLSL
 #define UMBRA_RAY_BVH_GLSL
 
@@ -37,9 +39,18 @@ layout(set = BVH_SET, binding = 0, std430) readonly buffer TopNodes {
 layout(set = BVH_SET, binding = 1, std430) readonly buffer Instances {
     BvhInstance instances[];
 };
+// The meshes' nodes as uvec4s: two a binary node, five a wide one.
 layout(set = BVH_SET, binding = 2, std430) readonly buffer MeshNodes {
-    BvhNode mesh_nodes[];
+    uvec4 mesh_words[];
 };
+
+layout(constant_id = 9) const bool WIDE_BVH = false;
+
+BvhNode mesh_node(uint i) {
+    uvec4 a = mesh_words[2u * i];
+    uvec4 b = mesh_words[2u * i + 1u];
+    return BvhNode(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w);
+}
 layout(set = BVH_SET, binding = 3, std430) readonly buffer Triangles {
     BvhTriangle triangles[];
 };
@@ -129,6 +140,60 @@ bool triangle_hits(Watertight r, BvhTriangle t, float t_max) {
     return t_hit > 0.0 && t_hit <= t_max;
 }
 
+// Byte `slot` (0 to 7) of the eight in `w`.
+uint slot_byte(uvec2 w, uint slot) {
+    return ((slot < 4u ? w.x : w.y) >> (8u * (slot & 3u))) & 0xffu;
+}
+
+// The walk of one instance's compressed wide BVH (`walk_wide` in ray_traced/walk.rs): a popped
+// node's children tested against the ray, each box one grid step wider than its quantized one
+// (`WideNode::child_box`), inner children hit pushed, leaves hit tested.
+bool occluded_in_wide(BvhInstance inst, vec3 o, vec3 inv, Watertight r, float t_max) {
+    uint stack[MAX_STACK];
+    uint sp = 0u;
+    stack[sp++] = 0u;
+    while (sp > 0u) {
+        uint base = 5u * (inst.node_offset + stack[--sp]);
+        RAY_COUNT(ray_nodes);
+        uvec4 w0 = mesh_words[base];
+        uvec4 w1 = mesh_words[base + 1u];
+        uvec4 w2 = mesh_words[base + 2u];
+        uvec4 w3 = mesh_words[base + 3u];
+        uvec4 w4 = mesh_words[base + 4u];
+        vec3 p = uintBitsToFloat(w0.xyz);
+        vec3 step = uintBitsToFloat((uvec3(w0.w, w0.w >> 8u, w0.w >> 16u) & 0xffu) << 23u);
+        uint inner = w0.w >> 24u;
+        for (uint slot = 0u; slot < 8u; ++slot) {
+            uint meta = slot_byte(w1.zw, slot);
+            if (meta == 0u) {
+                continue;
+            }
+            vec3 q_lo = vec3(slot_byte(w2.xy, slot), slot_byte(w3.xy, slot), slot_byte(w4.xy, slot));
+            vec3 q_hi = vec3(slot_byte(w2.zw, slot), slot_byte(w3.zw, slot), slot_byte(w4.zw, slot));
+            precise vec3 lo = p + step * (q_lo - 1.0);
+            precise vec3 hi = p + step * (q_hi + 1.0);
+            if (!slab_hits(BvhNode(lo, 0u, hi, 0u), o, inv, t_max)) {
+                continue;
+            }
+            if (((inner >> slot) & 1u) != 0u) {
+                if (sp < MAX_STACK) {
+                    stack[sp++] = w1.x + bitCount(inner & ((1u << slot) - 1u));
+                }
+            } else {
+                uint first = w1.y + (meta & 31u);
+                uint count = uint(bitCount(meta >> 5u));
+                for (uint k = 0u; k < count; ++k) {
+                    RAY_COUNT(ray_triangles);
+                    if (triangle_hits(r, triangles[inst.triangle_offset + first + k], t_max)) {
+                        return true;
+                    }
+                }
+            }
+        }
+    }
+    return false;
+}
+
 // The ray against one instance's mesh, carried into the mesh's space (t unchanged).
 bool occluded_in(BvhInstance inst, vec3 origin, vec3 dir, float t_max) {
     mat3x4 m = mat3x4(inst.world_to_object[0], inst.world_to_object[1], inst.world_to_object[2]);
@@ -136,11 +201,14 @@ bool occluded_in(BvhInstance inst, vec3 origin, vec3 dir, float t_max) {
     vec3 d = vec4(dir, 0.0) * m;
     vec3 inv = slab_inverse(d);
     Watertight r = watertight(o, d);
+    if (WIDE_BVH) {
+        return occluded_in_wide(inst, o, inv, r, t_max);
+    }
     uint stack[MAX_STACK];
     uint sp = 0u;
     stack[sp++] = 0u;
     while (sp > 0u) {
-        BvhNode n = mesh_nodes[inst.node_offset + stack[--sp]];
+        BvhNode n = mesh_node(inst.node_offset + stack[--sp]);
         RAY_COUNT(ray_nodes);
         if (!slab_hits(n, o, inv, t_max)) {
             continue;

@@ -7,7 +7,7 @@
 use crate::{scenes, BenchResult};
 use glam::Mat4;
 use umbra_reference::{shadow_ray, SceneBvh, SurfaceImage};
-use umbra_shadows::ray_traced::{RayScene, WalkStats};
+use umbra_shadows::ray_traced::{BvhLayout, RayScene, WalkStats};
 
 /// Arguments of `umbra-bench bvh`.
 #[derive(clap::Args, Debug)]
@@ -18,6 +18,10 @@ pub struct BvhArgs {
     /// Pixels whose shadow rays are walked, WIDTHxHEIGHT.
     #[arg(long, default_value = "256x192", value_parser = crate::parse_size)]
     size: (u32, u32),
+    /// The meshes' BVH layout: binary or cwbvh (nodes per ray then counts wide nodes, each
+    /// eight boxes).
+    #[arg(long, default_value = "binary")]
+    bvh: BvhLayout,
 }
 
 /// Prints one line per scene.
@@ -39,7 +43,7 @@ pub fn run(args: &BvhArgs) -> BenchResult<()> {
     );
     for name in &args.scenes {
         let mut scene = scenes::load(name, true, None)?;
-        let mut rays = RayScene::build(&scene);
+        let mut rays = RayScene::build_with(&scene, args.bvh);
         let built = rays.stats;
         let reference = SceneBvh::build(&scene);
         let surfaces = SurfaceImage::ray_cast(&scene, &reference, args.size.0, args.size.1);

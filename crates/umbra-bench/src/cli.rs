@@ -9,6 +9,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use umbra_reference::SceneBvh;
 use umbra_scene::Technique;
+use umbra_shadows::ray_traced::BvhLayout;
 use umbra_shadows::{MaskKind, ShadowFilter};
 
 #[derive(Parser, Debug)]
@@ -57,6 +58,9 @@ struct SweepArgs {
     /// Hybrid computation masks: depth-bounds, stencil, none.
     #[arg(long, value_delimiter = ',', default_value = "depth-bounds,stencil,none")]
     masks: Vec<MaskKind>,
+    /// The meshes' BVH layouts for rt and hybrid-rt: binary, cwbvh.
+    #[arg(long, value_delimiter = ',', default_value = "binary")]
+    bvh: Vec<BvhLayout>,
     /// Image size, WIDTHxHEIGHT.
     #[arg(long, default_value = "1024x768", value_parser = crate::parse_size)]
     size: (u32, u32),
@@ -122,6 +126,7 @@ fn run_sweep(args: &SweepArgs) -> BenchResult<()> {
         sm_sizes: args.sm_sizes.clone(),
         filters: args.filters.clone(),
         masks: args.masks.clone(),
+        bvhs: args.bvh.clone(),
     };
     std::fs::create_dir_all(&args.out).map_err(|e| BenchError::output(&args.out, e))?;
     let ctx = umbra_vk::Context::new()?;

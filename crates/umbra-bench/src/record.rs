@@ -51,6 +51,9 @@ pub struct Config {
     pub filter: Option<&'static str>,
     /// Computation mask (hybrid).
     pub mask: Option<&'static str>,
+    /// The meshes' BVH layout when not binary (rt, hybrid-rt): `cwbvh`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bvh: Option<&'static str>,
 }
 
 impl Config {
@@ -60,6 +63,7 @@ impl Config {
         parts.extend(self.sm_size.map(|s| s.to_string()));
         parts.extend(self.filter.map(str::to_owned));
         parts.extend(self.mask.map(str::to_owned));
+        parts.extend(self.bvh.map(str::to_owned));
         parts.join(" ")
     }
 
@@ -323,6 +327,7 @@ mod tests {
             sm_size: Some(512),
             filter: None,
             mask: Some("stencil"),
+            bvh: None,
         };
         assert_eq!(c.label(), "hybrid 512 stencil");
         assert_eq!(c.id(), "spotglb-hybrid-512-stencil");

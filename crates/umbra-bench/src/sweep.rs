@@ -7,6 +7,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use umbra_reference::{error_image, Comparison, SceneBvh, ShadowMask, SurfaceImage, WrongPixels};
 use umbra_scene::{Scene, Technique};
+use umbra_shadows::ray_traced::BvhLayout;
 use umbra_shadows::{Frame, HybridSettings, MaskKind, RenderError, Renderer, RendererDesc, ShadowFilter};
 use umbra_vk::{Context, VkError};
 
@@ -23,6 +24,8 @@ pub struct Plan {
     pub filters: Vec<ShadowFilter>,
     /// Hybrid computation masks.
     pub masks: Vec<MaskKind>,
+    /// The meshes' BVH layouts (rt, hybrid-rt).
+    pub bvhs: Vec<BvhLayout>,
 }
 
 /// The techniques a sweep measures, by their short names ([`Technique::short`]).
@@ -39,7 +42,16 @@ impl Plan {
     /// size and mask.
     pub fn configs(&self, scene: &str) -> Vec<Config> {
         let mut out = Vec::new();
-        let base = |technique| Config { scene: scene.to_owned(), technique, sm_size: None, filter: None, mask: None };
+        let base = |technique| Config {
+            scene: scene.to_owned(),
+            technique,
+            sm_size: None,
+            filter: None,
+            mask: None,
+            bvh: None,
+        };
+        // The ray-casting techniques once per BVH layout, the binary one unnamed.
+        let bvhs = || self.bvhs.iter().map(|&b| (b != BvhLayout::Binary).then_some(b.name()));
         for &t in &self.techniques {
             match t {
                 "sm" => {
@@ -49,9 +61,13 @@ impl Plan {
                         }
                     }
                 }
-                "silmap" | "hybrid-rt" => {
-                    out.extend(self.sm_sizes.iter().map(|&s| Config { sm_size: Some(s), ..base(t) }))
+                "silmap" => out.extend(self.sm_sizes.iter().map(|&s| Config { sm_size: Some(s), ..base(t) })),
+                "hybrid-rt" => {
+                    for bvh in bvhs() {
+                        out.extend(self.sm_sizes.iter().map(|&s| Config { sm_size: Some(s), bvh, ..base(t) }));
+                    }
                 }
+                "rt" => out.extend(bvhs().map(|bvh| Config { bvh, ..base(t) })),
                 "hybrid" => {
                     for &s in &self.sm_sizes {
                         for m in &self.masks {
@@ -101,6 +117,9 @@ pub fn renderer_desc(config: &Config, width: u32, height: u32) -> BenchResult<Re
     }
     let mask = config.mask.map(str::parse::<MaskKind>).transpose().map_err(BenchError::Usage)?;
     desc.hybrid = HybridSettings { resolution: config.sm_size, mask, cull_blockers: false };
+    if let Some(b) = config.bvh {
+        desc.bvh = b.parse().map_err(BenchError::Usage)?;
+    }
     desc.shadow_volume.overdraw = true;
     desc.diagnostics = true;
     desc.gbuffer = true;

@@ -83,6 +83,7 @@ pub fn configs(args: &PosterArgs, depth_bounds: bool) -> Vec<Config> {
             sm_size: (!matches!(technique, "sv" | "rt")).then_some(args.sm_size),
             filter: (technique == "sm").then_some(args.filter.name()),
             mask: (technique == "hybrid").then_some(mask.name()),
+            bvh: None,
         })
         .collect()
 }

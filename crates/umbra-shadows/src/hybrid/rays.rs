@@ -105,6 +105,7 @@ impl HybridRays {
         bvh_layout: &DescriptorSetLayout,
         depth_format: vk::Format,
         shadow: &ShadowMapSettings,
+        bvh: crate::ray_traced::BvhLayout,
     ) -> RenderResult<Self> {
         let storage = vk::DescriptorType::STORAGE_BUFFER;
         let both = vk::ShaderStageFlags::FRAGMENT | vk::ShaderStageFlags::COMPUTE;
@@ -128,7 +129,8 @@ impl HybridRays {
         let classify = GraphicsPipeline::new(ctx, &classify_layout, &desc)?;
         let sets = [bvh_layout, &list_layout, &output_layout];
         let trace_layout = PipelineLayout::new(ctx, "hybrid rays layout", &sets, 0)?;
-        let trace = ComputePipeline::new(ctx, &trace_layout, "hybrid rays", umbra_shaders::hybrid::RAYS_COMP, &[])?;
+        let comp = umbra_shaders::hybrid::RAYS_COMP;
+        let trace = ComputePipeline::new(ctx, &trace_layout, "hybrid rays", comp, &bvh.specialization())?;
         Ok(Self {
             classify,
             classify_layout,

@@ -10,6 +10,8 @@ use obvhs::BvhBuildParams;
 use std::time::{Duration, Instant};
 use umbra_scene::{Aabb, Mesh};
 
+use super::wide::{wide_build, wide_depth, BvhLayout, WideNode};
+
 /// One BVH node as a traversal shader reads it: two `vec4`s in `std430`.
 ///
 /// An inner node (`count == 0`) has its two children at `first` and `first + 1`; a leaf holds
@@ -64,8 +66,13 @@ impl BvhTriangle {
 /// A mesh's bottom-level BVH, in the mesh's own space.
 #[derive(Clone, Debug, Default)]
 pub struct MeshBvh {
-    /// Nodes, the root first (none for a mesh without triangles).
+    /// Binary nodes, the root first (none for a mesh without triangles, or in the
+    /// compressed wide layout).
     pub nodes: Vec<BvhNode>,
+    /// Compressed wide nodes, the root first (in that layout only).
+    pub wide: Vec<WideNode>,
+    /// The box of every triangle, in the mesh's space; `None` without triangles.
+    pub bounds: Option<Aabb>,
     /// The mesh's triangles in leaf order.
     pub triangles: Vec<BvhTriangle>,
     /// Longest root-to-leaf path, in nodes.
@@ -75,8 +82,8 @@ pub struct MeshBvh {
 }
 
 impl MeshBvh {
-    /// Builds `mesh`'s BVH (obvhs, rayon threads).
-    pub fn build(mesh: &Mesh) -> Self {
+    /// Builds `mesh`'s BVH in `layout` (obvhs, rayon threads).
+    pub fn build(mesh: &Mesh, layout: BvhLayout) -> Self {
         let started = Instant::now();
         let triangles: Vec<BvhTriangle> = mesh
             .indices
@@ -90,19 +97,36 @@ impl MeshBvh {
                 ObvhsAabb::new(a.min(b).min(c), a.max(b).max(c))
             })
             .collect();
-        let (nodes, order, depth) = flatten_build(&boxes);
+        let bounds = boxes
+            .iter()
+            .copied()
+            .reduce(|a, b| a.union(&b))
+            .map(|b| Aabb { min: Vec3::new(b.min.x, b.min.y, b.min.z), max: Vec3::new(b.max.x, b.max.y, b.max.z) });
+        let (nodes, wide, order, depth) = match layout {
+            BvhLayout::Binary => {
+                let (nodes, order, depth) = flatten_build(&boxes);
+                (nodes, Vec::new(), order, depth)
+            }
+            BvhLayout::CompressedWide => {
+                let (wide, order) = wide_build(&boxes);
+                let depth = wide_depth(&wide);
+                (Vec::new(), wide, order, depth)
+            }
+        };
         let triangles = order.iter().map(|&i| triangles[i as usize]).collect();
-        Self { nodes, triangles, depth, build_ms: started.elapsed().as_secs_f64() * 1e3 }
+        Self { nodes, wide, bounds, triangles, depth, build_ms: started.elapsed().as_secs_f64() * 1e3 }
     }
 
-    /// The box of every triangle (the root's), in the mesh's space; `None` without triangles.
-    pub fn bounds(&self) -> Option<Aabb> {
-        self.nodes.first().map(BvhNode::bounds)
+    /// Its nodes in its layout (binary or compressed wide).
+    pub fn node_count(&self) -> usize {
+        self.nodes.len() + self.wide.len()
     }
 
     /// Bytes of its nodes and triangles on the GPU.
     pub fn bytes(&self) -> u64 {
-        (std::mem::size_of_val(&self.nodes[..]) + std::mem::size_of_val(&self.triangles[..])) as u64
+        (std::mem::size_of_val(&self.nodes[..])
+            + std::mem::size_of_val(&self.wide[..])
+            + std::mem::size_of_val(&self.triangles[..])) as u64
     }
 }
 

@@ -4,8 +4,9 @@
 //!
 //! - [`MeshBvh`] (bottom level, one per mesh): a binary BVH built on the host with obvhs
 //!   (PLOC, reinsertion, leaves of up to 8 triangles), flattened into [`BvhNode`]s and the
-//!   mesh's triangles in leaf order ([`BvhTriangle`]), in the mesh's own space. Built once per
-//!   mesh revision.
+//!   mesh's triangles in leaf order ([`BvhTriangle`]), in the mesh's own space; or, with
+//!   [`BvhLayout::CompressedWide`], obvhs' compressed wide BVH (eight children a node, their
+//!   boxes quantized to 8 bits, [`WideNode`]). Built once per mesh revision.
 //! - [`RayScene`] (top level): one [`BvhInstance`] per shadow-casting object (its mesh's BVH,
 //!   its world-to-object transform) under a binary BVH of their world boxes. Moving an object
 //!   rebuilds only this level ([`RayScene::update`] counts both kinds of build).
@@ -20,6 +21,7 @@ pub(crate) mod pass;
 mod scene;
 pub(crate) mod stats;
 mod walk;
+mod wide;
 
 #[cfg(test)]
 mod tests;
@@ -28,3 +30,4 @@ pub use bvh::{BvhNode, BvhTriangle, MeshBvh};
 pub use scene::{BvhInstance, RayScene, RaySceneStats};
 pub use stats::TraversalReport;
 pub use walk::{WalkStats, MAX_STACK};
+pub use wide::{BvhLayout, WideNode};

@@ -7,7 +7,7 @@
 //! slot's own streams (so a moving caster allocates nothing, and frames in flight never share
 //! them).
 
-use super::{BvhInstance, BvhNode, RayScene, MAX_STACK};
+use super::{BvhInstance, BvhLayout, BvhNode, RayScene, MAX_STACK};
 use crate::forward::{self, Bounded, PassBounds};
 use crate::gpu_scene::{DrawPush, GpuScene};
 use crate::retired::Retired;
@@ -60,6 +60,7 @@ impl RayPass {
         scene_set_layout: &DescriptorSetLayout,
         depth_format: vk::Format,
         depth_bounds: bool,
+        bvh: BvhLayout,
     ) -> RenderResult<Self> {
         // Read by the ray pass's fragments and the ray-traced hybrid's rays (`hybrid::rays`).
         let stages = vk::ShaderStageFlags::FRAGMENT | vk::ShaderStageFlags::COMPUTE;
@@ -72,8 +73,11 @@ impl RayPass {
         let frag = umbra_shaders::visibility::RAY_FRAG;
         let mut desc = forward::surface_pass_desc("visibility (shadow rays)", frag, depth_format, &[]);
         desc.color_targets = &target;
+        let specialization = bvh.specialization();
+        desc.specialization = &specialization;
         let pipeline = Bounded::new(ctx, &layout, &desc, depth_bounds)?;
-        Ok(Self { pipeline, layout, set_layout, scene: RayScene::default(), meshes: None, generation: 0 })
+        let scene = RayScene::empty(bvh);
+        Ok(Self { pipeline, layout, set_layout, scene, meshes: None, generation: 0 })
     }
 
     /// Brings the BVH up to `scene`: the mesh arrays uploaded again when a mesh BVH was built
@@ -89,12 +93,14 @@ impl RayPass {
         retired: &mut Retired,
     ) -> RenderResult<()> {
         self.scene.update(scene);
-        if self.scene.depth > MAX_STACK {
+        if self.scene.stack_need() > MAX_STACK {
             return Err(RenderError::InvalidInput {
                 field: "scene".into(),
                 why: format!(
-                    "its ray-tracing BVH is {} nodes deep, more than the traversal's stack of {MAX_STACK}",
-                    self.scene.depth
+                    "its ray-tracing BVH ({} layout) is {} nodes deep and needs {} stack entries, more than the traversal's {MAX_STACK}",
+                    self.scene.layout.name(),
+                    self.scene.depth,
+                    self.scene.stack_need()
                 ),
             });
         }
@@ -140,7 +146,7 @@ impl RayPass {
         self.meshes = Some(MeshArrays {
             revision,
             generation: self.generation,
-            nodes: buffer("ray BVH mesh nodes", bytemuck::cast_slice(&self.scene.nodes))?,
+            nodes: buffer("ray BVH mesh nodes", bytemuck::cast_slice(self.scene.mesh_node_words()))?,
             triangles: buffer("ray BVH triangles", bytemuck::cast_slice(&self.scene.triangles))?,
         });
         Ok(())

@@ -3,6 +3,7 @@
 //! rebuilds its own BVH.
 
 use super::bvh::{flatten_build, transformed, BvhNode, MeshBvh};
+use super::wide::{BvhLayout, WideNode};
 use bytemuck::{Pod, Zeroable};
 use glam::Mat4;
 use std::sync::Arc;
@@ -49,17 +50,26 @@ struct CachedMesh {
 /// The scene's casters as a two-level BVH ([module documentation](super)).
 #[derive(Default)]
 pub struct RayScene {
+    /// How the meshes' BVHs are laid out.
+    pub layout: BvhLayout,
     meshes: Vec<Option<CachedMesh>>,
     /// Top-level nodes over `instances` (leaves index `instances`).
     pub top: Vec<BvhNode>,
     /// The shadow-casting objects with a triangle, in top-level leaf order.
     pub instances: Vec<BvhInstance>,
-    /// Every mesh's bottom-level nodes, one after the other (children index within their mesh).
+    /// Every mesh's bottom-level nodes, one after the other (children index within their
+    /// mesh), in the binary layout.
     pub nodes: Vec<BvhNode>,
+    /// The same in the compressed wide layout.
+    pub wide: Vec<WideNode>,
     /// Every mesh's triangles, one after the other, in leaf order.
     pub triangles: Vec<super::BvhTriangle>,
     /// The top level's depth plus the deepest instanced mesh's, in nodes.
     pub depth: u32,
+    /// The top level's depth, in nodes.
+    pub top_depth: u32,
+    /// The deepest instanced mesh's depth, in nodes.
+    pub mesh_depth: u32,
     /// What its builds cost.
     pub stats: RaySceneStats,
     /// Changes whenever its arrays change (what was uploaded of it is stale).
@@ -71,11 +81,21 @@ pub struct RayScene {
 }
 
 impl RayScene {
-    /// The scene's casters, every BVH built.
+    /// The scene's casters, every BVH built, the meshes' binary.
     pub fn build(scene: &Scene) -> Self {
-        let mut rays = Self::default();
+        Self::build_with(scene, BvhLayout::Binary)
+    }
+
+    /// The scene's casters, every BVH built, the meshes' in `layout`.
+    pub fn build_with(scene: &Scene, layout: BvhLayout) -> Self {
+        let mut rays = Self::empty(layout);
         rays.update(scene);
         rays
+    }
+
+    /// No caster yet; the meshes' BVHs will be laid out in `layout`.
+    pub fn empty(layout: BvhLayout) -> Self {
+        Self { layout, ..Self::default() }
     }
 
     /// Brings it up to `scene`: a mesh whose revision or triangle count changed gets a new
@@ -90,7 +110,8 @@ impl RayScene {
             if slot.as_ref().is_some_and(|c| c.revision == mesh.revision() && c.triangles == triangles) {
                 continue;
             }
-            *slot = Some(CachedMesh { revision: mesh.revision(), triangles, bvh: Arc::new(MeshBvh::build(mesh)) });
+            let bvh = Arc::new(MeshBvh::build(mesh, self.layout));
+            *slot = Some(CachedMesh { revision: mesh.revision(), triangles, bvh });
             self.stats.mesh_builds += 1;
             rebuilt = true;
         }
@@ -107,9 +128,11 @@ impl RayScene {
     /// Every mesh's nodes and triangles into the scene's arrays.
     fn concatenate(&mut self) {
         self.nodes.clear();
+        self.wide.clear();
         self.triangles.clear();
         for m in self.meshes.iter().flatten() {
             self.nodes.extend_from_slice(&m.bvh.nodes);
+            self.wide.extend_from_slice(&m.bvh.wide);
             self.triangles.extend_from_slice(&m.bvh.triangles);
         }
     }
@@ -123,7 +146,7 @@ impl RayScene {
         for m in &self.meshes {
             offsets.push((nodes, triangles));
             if let Some(m) = m {
-                nodes += m.bvh.nodes.len() as u32;
+                nodes += m.bvh.node_count() as u32;
                 triangles += m.bvh.triangles.len() as u32;
             }
         }
@@ -132,7 +155,7 @@ impl RayScene {
         let mut depth = 0;
         for (i, o) in scene.objects.iter().enumerate().filter(|(_, o)| o.casts_shadows) {
             let Some(Some(m)) = self.meshes.get(o.mesh) else { continue };
-            let Some(bounds) = m.bvh.bounds() else { continue };
+            let Some(bounds) = m.bvh.bounds else { continue };
             let w = o.transform.inverse();
             let (node_offset, triangle_offset) = offsets[o.mesh];
             let rows = [w.row(0), w.row(1), w.row(2)].map(|r| r.to_array());
@@ -155,6 +178,7 @@ impl RayScene {
         self.built_over = candidates;
         self.top = top;
         self.depth = depth + top_depth;
+        (self.top_depth, self.mesh_depth) = (top_depth, depth);
         self.stats.top_builds += 1;
         self.stats.top_build_ms = started.elapsed().as_secs_f64() * 1e3;
         self.revision += 1;
@@ -166,7 +190,26 @@ impl RayScene {
         size(std::mem::size_of_val(&self.top[..]))
             + size(std::mem::size_of_val(&self.instances[..]))
             + size(std::mem::size_of_val(&self.nodes[..]))
+            + size(std::mem::size_of_val(&self.wide[..]))
             + size(std::mem::size_of_val(&self.triangles[..]))
+    }
+
+    /// The meshes' nodes as the walk reads them: `uvec4`s, two a binary node, five a wide one.
+    pub fn mesh_node_words(&self) -> &[u32] {
+        match self.layout {
+            BvhLayout::Binary => bytemuck::cast_slice(&self.nodes),
+            BvhLayout::CompressedWide => bytemuck::cast_slice(&self.wide),
+        }
+    }
+
+    /// The most entries the walk's stack can hold at once: one per level for the binary top
+    /// level and, for the meshes, one per level (binary: both children pushed) or seven per
+    /// level plus one (wide: a node's up to eight children replace it).
+    pub fn stack_need(&self) -> u32 {
+        match self.layout {
+            BvhLayout::Binary => self.depth,
+            BvhLayout::CompressedWide => self.top_depth.max(7 * self.mesh_depth + 1),
+        }
     }
 
     /// The world-to-object matrix of `instance`.

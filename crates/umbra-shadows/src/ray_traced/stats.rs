@@ -7,6 +7,7 @@
 //! counted passes are diagnostics: the technique's own passes, and so its timings, run without
 //! counters. The result is [`TraversalReport`] in the light's [`crate::RayTracedReport`].
 
+use super::BvhLayout;
 use crate::forward::{self, Bounded, PassBounds};
 use crate::gpu_scene::{DrawPush, GpuScene};
 use crate::retired::Retired;
@@ -120,13 +121,13 @@ pub(crate) struct RayStats {
 pub(crate) type ListedLayouts<'a> = [&'a DescriptorSetLayout; 3];
 
 impl RayStats {
-    /// The counted pipelines: over the frame's surfaces with sets 0 (scene), 1 (BVH) and 2
-    /// (counters); and, with `listed`, over the hybrid's ray list with its sets and the
-    /// counters at set 3.
+    /// The counted pipelines, walking the BVH in layout `bvh`: over the frame's surfaces with
+    /// sets 0 (scene), 1 (BVH) and 2 (counters); and, with `listed`, over the hybrid's ray list
+    /// with its sets and the counters at set 3.
     pub fn new(
         ctx: &Context,
         scene_set_layout: &DescriptorSetLayout,
-        bvh_layout: &DescriptorSetLayout,
+        (bvh_layout, bvh): (&DescriptorSetLayout, BvhLayout),
         listed: Option<ListedLayouts<'_>>,
         depth_format: vk::Format,
         depth_bounds: bool,
@@ -141,13 +142,15 @@ impl RayStats {
         let frag = umbra_shaders::visibility::RAY_STATS_FRAG;
         let mut desc = forward::surface_pass_desc("ray stats (surfaces)", frag, depth_format, &[]);
         desc.color_targets = &target;
+        let specialization = bvh.specialization();
+        desc.specialization = &specialization;
         let surfaces = Bounded::new(ctx, &surfaces_layout, &desc, depth_bounds)?;
         let listed = match listed {
             Some([bvh, list, output]) => {
                 let sets = [bvh, list, output, &set_layout];
                 let layout = PipelineLayout::new(ctx, "ray stats (list) layout", &sets, 4)?;
                 let comp = umbra_shaders::hybrid::RAYS_STATS_COMP;
-                Some((ComputePipeline::new(ctx, &layout, "ray stats (list)", comp, &[])?, layout))
+                Some((ComputePipeline::new(ctx, &layout, "ray stats (list)", comp, &specialization)?, layout))
             }
             None => None,
         };

@@ -2,7 +2,7 @@
 //! triangles): the same answer for shadow rays from every scene's surfaces to its lights, a
 //! watertight shared edge, and moves that rebuild only the top level.
 
-use super::{BvhNode, RayScene, MAX_STACK};
+use super::{BvhLayout, BvhNode, MeshBvh, RayScene, WideNode, MAX_STACK};
 use glam::{Mat4, Vec3};
 use umbra_reference::SceneBvh;
 use umbra_scene::{procedural, Mesh, Scene};
@@ -40,9 +40,14 @@ fn check_layout(nodes: &[BvhNode], primitives: usize) {
 /// rays through the scene's box: the walk and the reference agree on all but rays whose f32
 /// and f64 answers may differ (grazing an edge or ending on a surface).
 fn agree(scene: &Scene, rays: usize) -> (usize, usize) {
+    agree_in(scene, rays, BvhLayout::Binary)
+}
+
+/// [`agree`] with the meshes' BVHs in `layout`.
+fn agree_in(scene: &Scene, rays: usize, layout: BvhLayout) -> (usize, usize) {
     let reference = SceneBvh::build(scene);
-    let walk = RayScene::build(scene);
-    assert!(walk.depth <= MAX_STACK, "depth {}", walk.depth);
+    let walk = RayScene::build_with(scene, layout);
+    assert!(walk.stack_need() <= MAX_STACK, "depth {}, stack {}", walk.depth, walk.stack_need());
     check_layout(&walk.top, walk.instances.len());
     let bounds = scene.bounds();
     let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
@@ -67,13 +72,70 @@ fn agree(scene: &Scene, rays: usize) -> (usize, usize) {
 
 #[test]
 fn walks_agree_with_the_reference_on_every_procedural_scene() {
+    for layout in [BvhLayout::Binary, BvhLayout::CompressedWide] {
+        for name in procedural::NAMES {
+            let scene = procedural::build(name).expect("procedural scene");
+            let (disagree, rays) = agree_in(&scene, 4000, layout);
+            println!("{} {name}: {disagree} of {rays} rays disagree with the reference", layout.name());
+            // f32 against f64: only a ray ending within rounding of a surface may differ.
+            assert!(disagree <= rays / 1000, "{name}: {disagree} of {rays}");
+        }
+    }
+}
+
+/// The two layouts walk to the same answer for every ray (the same triangle test; the wide
+/// boxes are conservative), on every procedural scene.
+#[test]
+fn both_layouts_give_every_ray_the_same_answer() {
+    let mut rng = Rng(0x2545_F491_4F6C_DD1D);
     for name in procedural::NAMES {
         let scene = procedural::build(name).expect("procedural scene");
-        let (disagree, rays) = agree(&scene, 4000);
-        println!("{name}: {disagree} of {rays} rays disagree with the reference");
-        // f32 against f64: only a ray ending within rounding of a surface may differ.
-        assert!(disagree <= rays / 1000, "{name}: {disagree} of {rays}");
+        let (binary, wide) = (RayScene::build(&scene), RayScene::build_with(&scene, BvhLayout::CompressedWide));
+        let bounds = scene.bounds();
+        let (mut nodes, mut wide_nodes) = (0u64, 0u64);
+        for _ in 0..2000 {
+            let pick = |r: &mut Rng| bounds.min + (bounds.max - bounds.min) * Vec3::new(r.unit(), r.unit(), r.unit());
+            let (from, to) = (pick(&mut rng), pick(&mut rng));
+            let (dir, len) = ((to - from).normalize_or_zero(), (to - from).length());
+            if dir == Vec3::ZERO {
+                continue;
+            }
+            let (a, sa) = binary.occluded(from, dir, len);
+            let (b, sb) = wide.occluded(from, dir, len);
+            assert_eq!(a, b, "{name}: a ray from {from} to {to}");
+            (nodes, wide_nodes) = (nodes + u64::from(sa.nodes), wide_nodes + u64::from(sb.nodes));
+        }
+        println!("{name}: nodes fetched, binary {nodes}, wide {wide_nodes}");
+        assert!(wide_nodes < nodes, "{name}: the wide walk fetches fewer nodes");
     }
+}
+
+/// Every triangle in exactly one wide leaf, and inside every box (as the walk decodes it) on
+/// the path from the root to its leaf: a ray that hits it enters each of them.
+fn check_wide_layout(bvh: &MeshBvh) {
+    let mut seen = vec![0u32; bvh.triangles.len()];
+    let nodes: &[WideNode] = &bvh.wide;
+    // Each node with the intersection of the boxes above it.
+    let mut stack = vec![(0u32, Vec3::NEG_INFINITY, Vec3::INFINITY)];
+    while let Some((i, above_lo, above_hi)) = stack.pop() {
+        let n = &nodes[i as usize];
+        for slot in (0..8).filter(|&s| n.meta(s) != 0) {
+            let (lo, hi) = n.child_box(slot);
+            let (lo, hi) = (lo.max(above_lo), hi.min(above_hi));
+            if n.is_inner(slot) {
+                stack.push((n.child(slot), lo, hi));
+                continue;
+            }
+            let (first, count) = n.triangles(slot);
+            for t in first..first + count {
+                seen[t as usize] += 1;
+                let tri = &bvh.triangles[t as usize];
+                let inside = |p: Vec3| p.cmpge(lo).all() && p.cmple(hi).all();
+                assert!((0..3).all(|k| inside(tri.vertex(k))), "triangle {t} outside a box above it");
+            }
+        }
+    }
+    assert!(seen.iter().all(|&c| c == 1), "a triangle is in no leaf or in two");
 }
 
 #[test]
@@ -83,8 +145,17 @@ fn mesh_layouts_hold_every_triangle_once() {
         let walk = RayScene::build(&scene);
         let mut node = 0;
         for mesh in &scene.meshes {
-            let bvh = super::MeshBvh::build(mesh);
+            let bvh = MeshBvh::build(mesh, BvhLayout::Binary);
             check_layout(&bvh.nodes, bvh.triangles.len());
+            let wide = MeshBvh::build(mesh, BvhLayout::CompressedWide);
+            check_wide_layout(&wide);
+            assert_eq!(wide.triangles.len(), bvh.triangles.len());
+            assert!(
+                wide.wide.len() <= bvh.nodes.len().div_ceil(4),
+                "{} wide nodes for {} binary",
+                wide.wide.len(),
+                bvh.nodes.len()
+            );
             assert_eq!(bvh.triangles.len(), mesh.indices.len() / 3);
             assert_eq!(&walk.nodes[node..node + bvh.nodes.len()], &bvh.nodes[..]);
             node += bvh.nodes.len();

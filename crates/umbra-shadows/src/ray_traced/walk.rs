@@ -4,6 +4,7 @@
 
 use super::bvh::BvhNode;
 use super::scene::{BvhInstance, RayScene};
+use super::wide::{BvhLayout, WideNode};
 use super::BvhTriangle;
 use glam::Vec3;
 
@@ -41,14 +42,54 @@ impl RayScene {
         let (o, d) = (m.transform_point3(origin), m.transform_vector3(dir));
         let (slab, ray) = (Slab::new(o, d), Watertight::new(o, d));
         let base = instance.node_offset as usize;
-        walk(&self.nodes[base..], &slab, t_max, stats, |s, first, count| {
+        let leaf = |s: &mut WalkStats, first: u32, count: u32| {
             let start = (instance.triangle_offset + first) as usize;
             self.triangles[start..start + count as usize].iter().any(|t| {
                 s.triangles += 1;
                 ray.hits(t, t_max)
             })
-        })
+        };
+        match self.layout {
+            BvhLayout::Binary => walk(&self.nodes[base..], &slab, t_max, stats, leaf),
+            BvhLayout::CompressedWide => walk_wide(&self.wide[base..], &slab, t_max, stats, leaf),
+        }
     }
+}
+
+/// The walk of a compressed wide BVH whose root is `nodes[0]`: a popped node's (up to) eight
+/// children are tested against the ray, its inner children hit pushed, its leaves hit tested;
+/// `nodes` counts the nodes popped (each one fetch of 80 bytes and eight box tests).
+fn walk_wide(
+    nodes: &[WideNode],
+    slab: &Slab,
+    t_max: f32,
+    stats: &mut WalkStats,
+    mut leaf: impl FnMut(&mut WalkStats, u32, u32) -> bool,
+) -> bool {
+    if nodes.is_empty() {
+        return false;
+    }
+    let mut stack = vec![0u32];
+    while let Some(i) = stack.pop() {
+        let node = &nodes[i as usize];
+        stats.nodes += 1;
+        for slot in (0..8).filter(|&s| node.meta(s) != 0) {
+            let (lo, hi) = node.child_box(slot);
+            if !slab.hits_box(lo, hi, t_max) {
+                continue;
+            }
+            if node.is_inner(slot) {
+                stack.push(node.child(slot));
+                stats.stack = stats.stack.max(stack.len() as u32);
+            } else {
+                let (first, count) = node.triangles(slot);
+                if leaf(stats, first, count) {
+                    return true;
+                }
+            }
+        }
+    }
+    false
 }
 
 /// A stack walk of the BVH whose root is `nodes[0]` (children index from `nodes`' start);
@@ -100,8 +141,12 @@ impl Slab {
     }
 
     fn hits(&self, node: &BvhNode, t_max: f32) -> bool {
-        let t0 = (Vec3::from(node.min) - self.origin) * self.inverse;
-        let t1 = (Vec3::from(node.max) - self.origin) * self.inverse;
+        self.hits_box(Vec3::from(node.min), Vec3::from(node.max), t_max)
+    }
+
+    fn hits_box(&self, min: Vec3, max: Vec3, t_max: f32) -> bool {
+        let t0 = (min - self.origin) * self.inverse;
+        let t1 = (max - self.origin) * self.inverse;
         let near = t0.min(t1).max_element().max(0.0);
         let far = (t0.max(t1).min_element() * WIDEN).min(t_max);
         near <= far

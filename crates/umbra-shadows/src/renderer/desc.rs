@@ -7,6 +7,7 @@ use crate::diagnostics::{GBuffer, LightDiagnostics};
 use crate::gbuffer;
 use crate::hybrid::pass as hybrid_pass;
 use crate::hybrid::{HybridSettings, MaskKind};
+use crate::ray_traced::BvhLayout;
 use crate::report::FrameReport;
 use crate::shadow_map::ShadowMapSettings;
 use crate::shadow_volume::ShadowVolumeSettings;
@@ -32,6 +33,10 @@ pub struct RendererDesc {
     pub shadow_volume: ShadowVolumeSettings,
     /// Settings of lights whose technique is `hybrid`.
     pub hybrid: HybridSettings,
+    /// How the ray-casting techniques (`ray_traced`, `hybrid_rt`) lay out each mesh's BVH:
+    /// binary (the default) or compressed wide (CWBVH). Both give the same images; which
+    /// walks faster is measured in `docs/techniques/ray-traced.md`.
+    pub bvh: BvhLayout,
     /// How lights whose technique is `auto` choose theirs (`crate::auto`): `None` (the
     /// default), [`AutoPolicy::for_device`] of the renderer's device.
     pub auto: Option<AutoPolicy>,
@@ -75,6 +80,7 @@ impl RendererDesc {
             shadow_map: ShadowMapSettings::DEFAULT,
             shadow_volume: ShadowVolumeSettings::default(),
             hybrid: HybridSettings::default(),
+            bvh: BvhLayout::Binary,
             auto: None,
             diagnostics: false,
             gbuffer: false,

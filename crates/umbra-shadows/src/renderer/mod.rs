@@ -150,7 +150,7 @@ impl Renderer {
         let clamp = desc.shadow_volume.far_plane == FarPlane::DepthClamp;
         let hybrid =
             HybridPass::new(ctx, &layout, depth_format, &scene_set_layout, &desc.shadow_map, clamp, volume_input)?;
-        let rays = RayPass::new(ctx, &scene_set_layout, depth_format, bounds)?;
+        let rays = RayPass::new(ctx, &scene_set_layout, depth_format, bounds, desc.bvh)?;
         let hybrid_rays = match crate::hybrid::rays::supported(caps) {
             true => Some(HybridRays::new(
                 ctx,
@@ -159,6 +159,7 @@ impl Renderer {
                 rays.set_layout(),
                 depth_format,
                 &desc.shadow_map,
+                desc.bvh,
             )?),
             false => None,
         };
@@ -168,7 +169,8 @@ impl Renderer {
                     let [list, output] = h.set_layouts();
                     [rays.set_layout(), list, output]
                 });
-                Some(RayStats::new(ctx, &scene_set_layout, rays.set_layout(), listed, depth_format, bounds)?)
+                let bvh = (rays.set_layout(), desc.bvh);
+                Some(RayStats::new(ctx, &scene_set_layout, bvh, listed, depth_format, bounds)?)
             }
             _ => None,
         };
