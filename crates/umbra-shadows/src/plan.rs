@@ -270,11 +270,16 @@ pub struct RayTracedReport {
     /// How far this light's rays walked the BVH (with `RendererDesc::diagnostics`, in umbra's
     /// own frames; `None` otherwise, or when it cast no ray).
     pub traversal: Option<crate::ray_traced::TraversalReport>,
+    /// The meshes' BVH layout the rays walked (`RendererDesc::bvh`).
+    pub layout: crate::ray_traced::BvhLayout,
+    /// Whether the device offers ray queries (`Capabilities::ray_query`). The rays walk
+    /// umbra's BVH in its own shaders either way: the ray-query path has not landed.
+    pub ray_query_offered: bool,
 }
 
 impl RayTracedReport {
     /// The report of `scene` as last updated.
-    pub(crate) fn of(scene: &crate::ray_traced::RayScene) -> Self {
+    pub(crate) fn of(scene: &crate::ray_traced::RayScene, ray_query_offered: bool) -> Self {
         Self {
             instances: scene.instances.len(),
             triangles: scene.triangles.len(),
@@ -285,6 +290,8 @@ impl RayTracedReport {
             mesh_build_ms: scene.stats.mesh_build_ms,
             top_build_ms: scene.stats.top_build_ms,
             traversal: None,
+            layout: scene.layout,
+            ray_query_offered,
         }
     }
 }

@@ -97,6 +97,12 @@ pub struct Capabilities {
     /// (`swiftshaders_clipper_leaves_a_hole_that_clipping_inside_the_view_closes`); shadow volumes
     /// are then clipped on the host (`umbra_shadows::HostClip`).
     pub watertight_clipping: bool,
+    /// The device offers ray queries (`VK_KHR_ray_query`, `VK_KHR_acceleration_structure`,
+    /// `rayQuery`). umbra does not enable them: its shadow rays walk umbra's own BVH in
+    /// shaders on every device (`umbra_shadows::ray_traced`); a ray-query path waits for a
+    /// device that has them to be tested on. Neither lavapipe (Mesa 22.3) nor SwiftShader
+    /// offers them.
+    pub ray_query: bool,
 }
 
 fn ser_format<S: serde::Serializer>(f: &vk::Format, s: S) -> Result<S::Ok, S::Error> {
@@ -114,6 +120,7 @@ pub(crate) struct Probe<'a> {
     pub conservative_rasterization: bool,
     pub depth_stencil_formats: Vec<vk::Format>,
     pub depth32_sampled: bool,
+    pub ray_query: bool,
 }
 
 impl Capabilities {
@@ -160,6 +167,7 @@ impl Capabilities {
             depth_stencil_formats: p.depth_stencil_formats.iter().map(|f| format!("{f:?}")).collect(),
             depth_stencil_format: p.depth_stencil_formats.first().copied().unwrap_or(vk::Format::UNDEFINED),
             depth32_sampled: p.depth32_sampled,
+            ray_query: p.ray_query,
             max_image_dimension_2d: limits.max_image_dimension2_d,
             max_image_dimension_cube: limits.max_image_dimension_cube,
             max_image_array_layers: limits.max_image_array_layers,

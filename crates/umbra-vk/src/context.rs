@@ -649,6 +649,26 @@ fn probe(
             conservative_rasterization: conservative,
             depth_stencil_formats,
             depth32_sampled,
+            ray_query: ray_query_offered(instance, pd),
         })
+    }
+}
+
+/// Whether the physical device offers ray queries: `VK_KHR_ray_query` and
+/// `VK_KHR_acceleration_structure` among its extensions and the `rayQuery` feature (asked for
+/// only when the extensions are there, as the spec requires).
+fn ray_query_offered(instance: &ash::Instance, pd: vk::PhysicalDevice) -> bool {
+    // SAFETY: plain queries of a live physical device; the feature struct is chained only when
+    // its extension is offered.
+    unsafe {
+        let Ok(exts) = instance.enumerate_device_extension_properties(pd) else { return false };
+        let has = |n: &CStr| exts.iter().any(|e| e.extension_name_as_c_str() == Ok(n));
+        if !(has(ash::khr::ray_query::NAME) && has(ash::khr::acceleration_structure::NAME)) {
+            return false;
+        }
+        let mut ray_query = vk::PhysicalDeviceRayQueryFeaturesKHR::default();
+        let mut f2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut ray_query);
+        instance.get_physical_device_features2(pd, &mut f2);
+        ray_query.ray_query == vk::TRUE
     }
 }

@@ -16,7 +16,7 @@ use std::time::Duration;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum BvhLayout {
-    /// Two children per inner node with full `f32` boxes ([`BvhNode`], 32 bytes a node).
+    /// Two children per inner node with full `f32` boxes ([`super::BvhNode`], 32 bytes a node).
     #[default]
     Binary,
     /// Compressed wide (CWBVH, Ylitie, Karras and Laine 2017, as obvhs builds it): up to eight

@@ -290,7 +290,7 @@ impl Renderer {
         if let Some(stats) = self.ray_stats.as_mut() {
             stats.prepare(&self.ctx, lights.len(), &mut self.slot.retired)?;
         }
-        let report = RayTracedReport::of(self.rays.scene());
+        let report = RayTracedReport::of(self.rays.scene(), self.ctx.capabilities().ray_query);
         for light in lights.iter_mut().filter(|l| l.rays) {
             light.plan.ray_traced = Some(report);
         }
