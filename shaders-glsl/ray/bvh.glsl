@@ -145,7 +145,7 @@ uint slot_byte(uvec2 w, uint slot) {
     return ((slot < 4u ? w.x : w.y) >> (8u * (slot & 3u))) & 0xffu;
 }
 
-// The walk of one instance's compressed wide BVH (`walk_wide` in ray_traced/walk.rs): a popped
+// The walk of one instance's compressed wide BVH (`WideNode`'s walk in ray_traced/walk.rs): a popped
 // node's children tested against the ray, each box one grid step wider than its quantized one
 // (`WideNode::child_box`), inner children hit pushed, leaves hit tested.
 bool occluded_in_wide(BvhInstance inst, vec3 o, vec3 inv, Watertight r, float t_max) {

@@ -51,51 +51,62 @@ impl RayScene {
         };
         match self.layout {
             BvhLayout::Binary => walk(&self.nodes[base..], &slab, t_max, stats, leaf),
-            BvhLayout::CompressedWide => walk_wide(&self.wide[base..], &slab, t_max, stats, leaf),
+            BvhLayout::CompressedWide => walk(&self.wide[base..], &slab, t_max, stats, leaf),
         }
     }
 }
 
-/// The walk of a compressed wide BVH whose root is `nodes[0]`: a popped node's (up to) eight
-/// children are tested against the ray, its inner children hit pushed, its leaves hit tested;
-/// `nodes` counts the nodes popped (each one fetch of 80 bytes and eight box tests).
-fn walk_wide(
-    nodes: &[WideNode],
-    slab: &Slab,
-    t_max: f32,
-    stats: &mut WalkStats,
-    mut leaf: impl FnMut(&mut WalkStats, u32, u32) -> bool,
-) -> bool {
-    if nodes.is_empty() {
-        return false;
+/// What a node's test against the ray found, in the order the walk takes it.
+enum Hit {
+    /// An inner node to walk (index from the mesh's first node).
+    Inner(u32),
+    /// A leaf's primitives: first and count.
+    Leaf(u32, u32),
+}
+
+/// A node of either layout, as the walk tests it.
+trait WalkNode {
+    /// Appends what of this node the ray may meet: a binary node's two children if its box is
+    /// hit; a wide node's children whose boxes are hit, in slot order.
+    fn hits(&self, slab: &Slab, t_max: f32, out: &mut Vec<Hit>);
+}
+
+impl WalkNode for BvhNode {
+    fn hits(&self, slab: &Slab, t_max: f32, out: &mut Vec<Hit>) {
+        if !slab.hits_box(Vec3::from(self.min), Vec3::from(self.max), t_max) {
+            return;
+        }
+        match self.is_leaf() {
+            true => out.push(Hit::Leaf(self.first, self.count)),
+            false => out.extend([Hit::Inner(self.first), Hit::Inner(self.first + 1)]),
+        }
     }
-    let mut stack = vec![0u32];
-    while let Some(i) = stack.pop() {
-        let node = &nodes[i as usize];
-        stats.nodes += 1;
-        for slot in (0..8).filter(|&s| node.meta(s) != 0) {
-            let (lo, hi) = node.child_box(slot);
+}
+
+/// A wide node is one fetch of 80 bytes and up to eight box tests.
+impl WalkNode for WideNode {
+    fn hits(&self, slab: &Slab, t_max: f32, out: &mut Vec<Hit>) {
+        for slot in (0..8).filter(|&s| self.meta(s) != 0) {
+            let (lo, hi) = self.child_box(slot);
             if !slab.hits_box(lo, hi, t_max) {
                 continue;
             }
-            if node.is_inner(slot) {
-                stack.push(node.child(slot));
-                stats.stack = stats.stack.max(stack.len() as u32);
-            } else {
-                let (first, count) = node.triangles(slot);
-                if leaf(stats, first, count) {
-                    return true;
+            out.push(match self.is_inner(slot) {
+                true => Hit::Inner(self.child(slot)),
+                false => {
+                    let (first, count) = self.triangles(slot);
+                    Hit::Leaf(first, count)
                 }
-            }
+            });
         }
     }
-    false
 }
 
-/// A stack walk of the BVH whose root is `nodes[0]` (children index from `nodes`' start);
-/// `leaf(stats, first, count)` says whether a leaf's primitives block the ray.
-fn walk(
-    nodes: &[BvhNode],
+/// A stack walk of the BVH whose root is `nodes[0]` (children index from `nodes`' start),
+/// counting the nodes popped; `leaf(stats, first, count)` says whether a leaf's primitives
+/// block the ray.
+fn walk<N: WalkNode>(
+    nodes: &[N],
     slab: &Slab,
     t_max: f32,
     stats: &mut WalkStats,
@@ -104,20 +115,23 @@ fn walk(
     if nodes.is_empty() {
         return false;
     }
-    let mut stack = vec![0u32];
+    let (mut stack, mut hits) = (vec![0u32], Vec::with_capacity(8));
     while let Some(i) = stack.pop() {
-        let node = &nodes[i as usize];
         stats.nodes += 1;
-        if !slab.hits(node, t_max) {
-            continue;
-        }
-        if node.is_leaf() {
-            if leaf(stats, node.first, node.count) {
-                return true;
+        hits.clear();
+        nodes[i as usize].hits(slab, t_max, &mut hits);
+        for hit in &hits {
+            match *hit {
+                Hit::Inner(child) => {
+                    stack.push(child);
+                    stats.stack = stats.stack.max(stack.len() as u32);
+                }
+                Hit::Leaf(first, count) => {
+                    if leaf(stats, first, count) {
+                        return true;
+                    }
+                }
             }
-        } else {
-            stack.extend([node.first, node.first + 1]);
-            stats.stack = stats.stack.max(stack.len() as u32);
         }
     }
     false
@@ -138,10 +152,6 @@ impl Slab {
     fn new(origin: Vec3, dir: Vec3) -> Self {
         let safe = |d: f32| if d.abs() < 1e-20 { 1e-20f32.copysign(d) } else { d };
         Self { origin, inverse: Vec3::new(safe(dir.x), safe(dir.y), safe(dir.z)).recip() }
-    }
-
-    fn hits(&self, node: &BvhNode, t_max: f32) -> bool {
-        self.hits_box(Vec3::from(node.min), Vec3::from(node.max), t_max)
     }
 
     fn hits_box(&self, min: Vec3, max: Vec3, t_max: f32) -> bool {

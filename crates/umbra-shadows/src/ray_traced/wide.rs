@@ -1,6 +1,6 @@
 //! The compressed wide layout of a mesh's BVH (CWBVH, Ylitie, Karras and Laine 2017, as obvhs
 //! builds it) beside the binary one ([`BvhLayout`]): its node as the walk reads it
-//! ([`WideNode`]), its build and its depth. The walks are `walk_wide` (walk.rs) on the host and
+//! ([`WideNode`]), its build and its depth. The walks are its `WalkNode` (walk.rs) on the host and
 //! `occluded_in_wide` (`shaders-glsl/ray/bvh.glsl`) on the GPU.
 
 use bytemuck::{Pod, Zeroable};
