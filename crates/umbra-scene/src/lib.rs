@@ -13,6 +13,7 @@
 
 mod adjacency;
 mod camera;
+mod checked;
 mod error;
 mod files;
 mod gltf;
@@ -27,6 +28,7 @@ mod volume;
 
 pub use adjacency::{Adjacency, Edge, EdgeFace, TopologyReport, CONVEX_TEST_TRIANGLES};
 pub use camera::Camera;
+pub use checked::CheckedMeshes;
 pub use error::{SceneError, SceneResult};
 pub use gltf::{import_gltf, import_gltf_slice};
 pub use light::{Light, LightKind, Spot, Technique};

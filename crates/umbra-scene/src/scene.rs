@@ -175,6 +175,11 @@ impl Scene {
             m.validate()?;
         }
         let bounds = self.validate_placement()?;
+        self.validate_camera(bounds)
+    }
+
+    /// The camera against the scene's world `bounds` ([`Camera::validate`]).
+    pub(crate) fn validate_camera(&self, bounds: Aabb) -> crate::SceneResult<()> {
         self.camera
             .validate(self.reach_of(bounds))
             .map_err(|why| crate::SceneError::InvalidScene { what: "camera".into(), why })
@@ -184,6 +189,12 @@ impl Scene {
     /// that registered checked meshes and brings its own view): objects, lights, ambient and
     /// background. Returns the world bounds of every object.
     pub fn validate_placement(&self) -> crate::SceneResult<Aabb> {
+        self.placement_with(|i| self.meshes.get(i).map(Mesh::bounds))
+    }
+
+    /// [`Scene::validate_placement`] with mesh `i`'s bounds from `mesh_bounds(i)` (`None`: no
+    /// such mesh).
+    pub(crate) fn placement_with(&self, mesh_bounds: impl Fn(usize) -> Option<Aabb>) -> crate::SceneResult<Aabb> {
         fn invalid<T>(what: String, why: String) -> crate::SceneResult<T> {
             Err(crate::SceneError::InvalidScene { what, why })
         }
@@ -195,13 +206,13 @@ impl Scene {
         let mut bounds = Aabb::EMPTY;
         for (i, o) in self.objects.iter().enumerate() {
             let what = || format!("object {i} ({:?})", o.name);
-            let Some(mesh) = self.meshes.get(o.mesh) else {
+            let Some(mesh_bounds) = mesh_bounds(o.mesh) else {
                 return invalid(what(), format!("refers to mesh {} of {}", o.mesh, self.meshes.len()));
             };
             if !o.transform.is_finite() || !o.albedo.is_finite() {
                 return invalid(what(), "transform or albedo is not finite".into());
             }
-            let b = mesh.bounds().transformed(&o.transform);
+            let b = mesh_bounds.transformed(&o.transform);
             let reach = b.min.abs().max(b.max.abs()).max_element();
             let within = reach.is_finite() && reach <= crate::MAX_COORDINATE;
             if !b.is_empty() && !within {

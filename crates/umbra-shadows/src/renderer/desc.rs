@@ -42,9 +42,10 @@ pub struct RendererDesc {
     pub auto: Option<AutoPolicy>,
     /// Render the diagnostic views of every light ([`Frame::diagnostics`]: its per-pixel
     /// classification, hence its shadow mask; silhouette points and map for silhouette-map
-    /// lights, the stencil for hybrid and shadow-volume lights) and count silhouette-map
-    /// lights' silhouette pixels: one more pass and readback per light, reported as a
-    /// diagnostic pass. Off by default.
+    /// lights, the stencil for hybrid and shadow-volume lights), count silhouette-map lights'
+    /// silhouette pixels, and count how far ray-casting lights' rays walk the BVH
+    /// (`RayTracedReport::traversal`, the `ray stats` passes): one more pass and readback per
+    /// light, reported as a diagnostic pass. Off by default.
     pub diagnostics: bool,
     /// Render the G-buffer ([`Frame::gbuffer`]): world position and geometric normal per
     /// pixel, for the exact reference. One diagnostic pass. Off by default.

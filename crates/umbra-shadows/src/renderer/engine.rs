@@ -68,7 +68,7 @@ impl Renderer {
             let ctx = self.ctx.clone();
             self.rebuild()?.image(&ctx)?;
         }
-        let view = FrameView { view, boxes: scene.object_bounds() };
+        let view = FrameView { view, boxes: scene.object_bounds_with(&self.checked) };
         std::mem::swap(&mut self.slot, slot);
         let recorded = self.frame(scene, view, Output::Engine { depth, cmd });
         std::mem::swap(&mut self.slot, slot);

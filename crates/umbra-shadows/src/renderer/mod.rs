@@ -46,7 +46,7 @@ use desc::{check_frame_size, frame_target};
 use record::Output;
 use std::sync::Arc;
 use std::time::Instant;
-use umbra_scene::Scene;
+use umbra_scene::{CheckedMeshes, Scene};
 use umbra_vk::{vk, Buffer, BufferDesc, Context, DescriptorSetLayout, Image, PipelineLayout};
 
 /// Renders scenes into a headless target of a fixed size.
@@ -71,6 +71,9 @@ pub struct Renderer {
     hybrid_rays: Option<HybridRays>,
     /// The shadow rays' counted twins and counters (with `diagnostics`, in umbra's own frames).
     ray_stats: Option<RayStats>,
+    /// The scene's meshes as last validated and measured, by revision (checked every frame,
+    /// read again only when one changed).
+    pub(crate) checked: CheckedMeshes,
     /// The visibility image every shadowed light's technique writes and its lighting reads.
     visibility: VisibilityPass,
     /// How volume vertices reach the GPU: as built, or clipped to the view on the host.
@@ -220,6 +223,7 @@ impl Renderer {
             rays,
             hybrid_rays,
             ray_stats,
+            checked: CheckedMeshes::default(),
             visibility,
             volume_input,
             mask,
@@ -263,7 +267,7 @@ impl Renderer {
         let allocations_before = self.ctx.memory_allocations();
         // 1. A typed error, before any GPU work, for non-finite or out-of-range input, and for
         //    more objects or lights than the device's buffers can bind.
-        scene.validate()?;
+        scene.validate_with(&mut self.checked)?;
         gpu_scene::check_limits(self.ctx.capabilities(), SceneCounts::of(scene, 0))?;
         // 2. Its own targets, the readback poisoned so that a copy that never happened cannot
         //    pass for a frame.

@@ -37,7 +37,7 @@ impl Renderer {
             true => volumes::volume_camera(&scene.camera, self.desc.shadow_volume.far_plane == FarPlane::Infinite),
             false => scene.camera,
         };
-        FrameView { view: View::of_camera(&camera, aspect), boxes: scene.object_bounds() }
+        FrameView { view: View::of_camera(&camera, aspect), boxes: scene.object_bounds_with(&self.checked) }
     }
 
     /// Per light, what to record and which casters enter its passes (`crate::plan`).

@@ -182,7 +182,7 @@ impl Shadows {
         let scene = &mut self.registry.scene;
         scene.lights.clear();
         scene.lights.extend_from_slice(inputs.lights);
-        scene.validate_placement()?;
+        scene.validate_placement_with(&mut self.renderer.checked)?;
         let d = inputs.depth;
         let (width, height) = (self.desc.settings.width, self.desc.settings.height);
         let desc = ImageDesc::new_2d(d.format, width, height).usage(d.usage).samples(d.samples);
