@@ -14,7 +14,9 @@
 //! 4. a bounded light's scissor rectangle and depth bounds (Lengyel; Everitt & Kilgard 2003;
 //!    McGuire et al., cited in Chan–Durand §2) limit its lighting and stencil passes;
 //! 5. `auto` lights get the shadow map when its texels project no larger than a pixel on every
-//!    visible receiver (Stamminger–Drettakis' ratio, Chan–Durand §6.3), the hybrid otherwise.
+//!    visible receiver (Stamminger–Drettakis' ratio, Chan–Durand §6.3) and the renderer accepts
+//!    a map's accuracy, otherwise the exact technique a measured cost model finds cheapest
+//!    (`crate::auto`).
 //!
 //! With `RendererDesc::cull` off every light records every pass of its technique over every
 //! caster: the same image, for comparison.
