@@ -36,6 +36,19 @@ enum Command {
     /// Build ray-traced shadows' two-level BVH per scene and walk every pixel's shadow rays on
     /// the host: build and rebuild times, memory, depth, nodes and triangles per ray.
     Bvh(bvh::BvhArgs),
+    /// Read a sweep's `results.json` and write its CSV, plots and summary again, without
+    /// rendering: charts follow a change of style without a new sweep.
+    Plot(PlotArgs),
+}
+
+#[derive(clap::Args, Debug)]
+struct PlotArgs {
+    /// A sweep's `results.json`.
+    #[arg(long)]
+    results: PathBuf,
+    /// Output folder (created if missing).
+    #[arg(long, default_value = "bench-out")]
+    out: PathBuf,
 }
 
 #[derive(clap::Args, Debug)]
@@ -101,6 +114,7 @@ pub fn main() {
         Command::Fingerprint(args) => fingerprint::run(&args),
         Command::FrameCost(args) => frame_cost::run(&args),
         Command::Bvh(args) => bvh::run(&args),
+        Command::Plot(args) => run_plot(&args),
     };
     if let Err(e) = result {
         eprintln!("umbra-bench: {e}");
@@ -181,6 +195,21 @@ fn run_sweep(args: &SweepArgs) -> BenchResult<()> {
         skipped,
     };
     write_outputs(&results, &plan.scenes, &args.out)
+}
+
+fn run_plot(args: &PlotArgs) -> BenchResult<()> {
+    plots::load_font()?;
+    let text = std::fs::read_to_string(&args.results).map_err(|e| BenchError::input(&args.results, e))?;
+    let results: Results = serde_json::from_str(&text).map_err(|e| BenchError::input(&args.results, e))?;
+    // The scenes in the order the sweep measured them.
+    let mut scenes: Vec<String> = Vec::new();
+    for r in &results.records {
+        if !scenes.contains(&r.config.scene) {
+            scenes.push(r.config.scene.clone());
+        }
+    }
+    std::fs::create_dir_all(&args.out).map_err(|e| BenchError::output(&args.out, e))?;
+    write_outputs(&results, &scenes, &args.out)
 }
 
 fn write_outputs(results: &Results, scenes: &[String], out: &Path) -> BenchResult<()> {

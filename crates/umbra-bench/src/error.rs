@@ -28,6 +28,14 @@ pub enum BenchError {
     /// A flag's value makes no sense.
     #[error("{0}")]
     Usage(String),
+    /// A file could not be read or parsed.
+    #[error("reading {path}: {message}")]
+    Input {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        message: String,
+    },
     /// A file could not be written.
     #[error("writing {path}: {message}")]
     Output {
@@ -42,6 +50,11 @@ impl BenchError {
     /// An output error for `path`.
     pub fn output(path: &std::path::Path, e: impl std::fmt::Display) -> Self {
         Self::Output { path: path.to_owned(), message: e.to_string() }
+    }
+
+    /// An input error for `path`.
+    pub fn input(path: &std::path::Path, e: impl std::fmt::Display) -> Self {
+        Self::Input { path: path.to_owned(), message: e.to_string() }
     }
 }
 

@@ -14,6 +14,10 @@
 //!     --sm-sizes 256,512,1024 --size 1024x768 --frames 30 --out bench-out
 //! ```
 //!
+//! `umbra-bench plot --results DIR/results.json --out DIR2` reads a sweep's `results.json` back
+//! and writes its CSV, summary and plots again without rendering (the JSON and CSV come out
+//! byte for byte the same): a chart's style can change without a new sweep.
+//!
 //! `umbra-bench poster` renders one scene with every technique on the same frame, scores each
 //! against the exact reference, and writes `poster.png` (per technique its image, its error
 //! image and a caption with GPU ms and wrong pixels), `poster.json` with the same numbers and a

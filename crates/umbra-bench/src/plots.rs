@@ -21,6 +21,8 @@ fn colour(technique: &str) -> RGBColor {
         "sm" => RGBColor(31, 119, 180),
         "silmap" => RGBColor(44, 160, 44),
         "sv" => RGBColor(214, 39, 40),
+        "rt" => RGBColor(148, 103, 189),
+        "hybrid-rt" => RGBColor(140, 86, 75),
         _ => RGBColor(255, 127, 14),
     }
 }

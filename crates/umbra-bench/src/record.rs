@@ -1,10 +1,10 @@
 //! What one run measured, as written to `results.json` and `results.csv`.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use umbra_reference::WrongPixels;
 
 /// Median and spread of a series of samples.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Spread {
     /// The median.
     pub median: f64,
@@ -82,7 +82,7 @@ impl Config {
 }
 
 /// One pass's GPU time over the timed frames.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PassTime {
     /// Pass name as in the frame report (`shadow_map 0`, `hybrid volumes 0`, …).
     pub name: String,
@@ -91,7 +91,7 @@ pub struct PassTime {
 }
 
 /// Fill counts of the last frame (Chan–Durand's O and P, Sen's Table 1).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Fill {
     /// Shadow-volume fragments (all lights) per image pixel, O.
     pub volume_overdraw: Option<f64>,
@@ -105,7 +105,7 @@ pub struct Fill {
 
 /// Shadow rays of the last frame (ray-traced and ray-traced hybrid lights, with the
 /// renderer's diagnostics), over the scene's lights.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Rays {
     /// Shadow rays cast.
     pub rays: u64,
@@ -128,7 +128,7 @@ pub struct Rays {
 }
 
 /// Accuracy against the exact reference, summed over the scene's lights.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Accuracy {
     /// Every compared pixel.
     pub all: WrongPixels,
@@ -151,7 +151,7 @@ pub struct Accuracy {
 }
 
 /// One run: a configuration measured.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Record {
     /// What ran.
     #[serde(flatten)]
@@ -190,7 +190,7 @@ pub struct Record {
 }
 
 /// A configuration measured again with `RendererDesc::cull` off.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct NoCull {
     /// The frame's total GPU time without planning.
     pub gpu_ms: Option<Spread>,
@@ -201,7 +201,7 @@ pub struct NoCull {
 }
 
 /// A configuration the device cannot run.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Skipped {
     /// What was asked.
     #[serde(flatten)]
@@ -211,7 +211,7 @@ pub struct Skipped {
 }
 
 /// Everything a sweep wrote to `results.json`.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Results {
     /// Device name.
     pub device: String,
@@ -306,6 +306,58 @@ impl Record {
     }
 }
 
+/// `results.json`'s configurations read back with the static names the sweep writes; an
+/// unknown name is an error naming it.
+mod names {
+    use super::{Config, Deserialize};
+    use serde::Deserializer;
+    use umbra_shadows::ray_traced::BvhLayout;
+    use umbra_shadows::{MaskKind, ShadowFilter};
+
+    /// A [`Config`] as text.
+    #[derive(Deserialize)]
+    struct ConfigText {
+        scene: String,
+        technique: String,
+        sm_size: Option<u32>,
+        filter: Option<String>,
+        mask: Option<String>,
+        #[serde(default)]
+        bvh: Option<String>,
+    }
+
+    fn known(
+        name: Option<String>,
+        what: &str,
+        find: impl Fn(&str) -> Option<&'static str>,
+    ) -> Result<Option<&'static str>, String> {
+        name.map(|s| find(&s).ok_or_else(|| format!("unknown {what} `{s}`"))).transpose()
+    }
+
+    // By hand: a derived impl would ask the input to outlive 'static for the `&'static str`s.
+    impl<'de> Deserialize<'de> for Config {
+        fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+            Self::try_from(ConfigText::deserialize(d)?).map_err(serde::de::Error::custom)
+        }
+    }
+
+    impl TryFrom<ConfigText> for Config {
+        type Error = String;
+
+        fn try_from(t: ConfigText) -> Result<Self, String> {
+            let technique = known(Some(t.technique), "technique", |s| crate::sweep::technique(s).map(|t| t.short()))?;
+            Ok(Self {
+                scene: t.scene,
+                technique: technique.unwrap_or_default(),
+                sm_size: t.sm_size,
+                filter: known(t.filter, "filter", |s| s.parse::<ShadowFilter>().ok().map(ShadowFilter::name))?,
+                mask: known(t.mask, "mask", |s| s.parse::<MaskKind>().ok().map(MaskKind::name))?,
+                bvh: known(t.bvh, "BVH layout", |s| s.parse::<BvhLayout>().ok().map(BvhLayout::name))?,
+            })
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -331,5 +383,44 @@ mod tests {
         };
         assert_eq!(c.label(), "hybrid 512 stencil");
         assert_eq!(c.id(), "spotglb-hybrid-512-stencil");
+    }
+
+    #[test]
+    fn configs_read_back_as_written_and_unknown_names_are_named() {
+        for c in [
+            Config {
+                scene: "cubes".into(),
+                technique: "sm",
+                sm_size: Some(64),
+                filter: Some("pcf2x2"),
+                mask: None,
+                bvh: None,
+            },
+            Config {
+                scene: "tree".into(),
+                technique: "hybrid",
+                sm_size: Some(512),
+                filter: None,
+                mask: Some("depth-bounds"),
+                bvh: None,
+            },
+            Config {
+                scene: "cage".into(),
+                technique: "rt",
+                sm_size: None,
+                filter: None,
+                mask: None,
+                bvh: Some("cwbvh"),
+            },
+        ] {
+            let json = serde_json::to_string(&c).expect("written");
+            assert_eq!(serde_json::from_str::<Config>(&json).expect("read"), c, "{json}");
+        }
+        let bad = r#"{"scene":"cubes","technique":"raymarch","sm_size":null,"filter":null,"mask":null}"#;
+        let e = serde_json::from_str::<Config>(bad).expect_err("refused").to_string();
+        assert!(e.contains("unknown technique `raymarch`"), "{e}");
+        let bad = r#"{"scene":"cubes","technique":"sm","sm_size":64,"filter":"pcf9x9","mask":null}"#;
+        let e = serde_json::from_str::<Config>(bad).expect_err("refused").to_string();
+        assert!(e.contains("unknown filter `pcf9x9`"), "{e}");
     }
 }

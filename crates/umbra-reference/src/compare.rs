@@ -9,13 +9,13 @@
 use crate::distance::distance_to_seeds;
 use crate::mask::ShadowMask;
 use crate::{ReferenceError, ReferenceResult};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Default half-width of the edge band, in pixels.
 pub const EDGE_BAND_PX: f32 = 2.0;
 
 /// Wrong pixels among some set of compared pixels.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct WrongPixels {
     /// Pixels both masks decide.
     pub compared: u64,
