@@ -425,6 +425,12 @@ impl<'a> Recorder<'a> {
         unsafe { self.device().cmd_dispatch_indirect(self.cmd, buffer.raw, offset) };
     }
 
+    /// Dispatches the bound compute pipeline over `groups` workgroups (x, y, z).
+    pub fn dispatch(&mut self, groups: [u32; 3]) {
+        // SAFETY: a compute pipeline is bound; limits are checked by validation.
+        unsafe { self.device().cmd_dispatch(self.cmd, groups[0], groups[1], groups[2]) };
+    }
+
     /// Writes `words` at the start of `buffer` from the command buffer (at most 65,536 bytes;
     /// the buffer has `TRANSFER_DST` usage).
     pub fn update_buffer(&mut self, buffer: &'a Buffer, words: &[u32]) {

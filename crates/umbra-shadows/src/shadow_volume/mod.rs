@@ -16,7 +16,9 @@
 pub(crate) mod batches;
 pub(crate) mod build;
 pub(crate) mod clip;
+pub(crate) mod gpu;
 pub(crate) mod pass;
 mod settings;
 
+pub use gpu::GpuSilhouettes;
 pub use settings::{FarPlane, HostClip, ShadowVolumeSettings, VolumeMode};

@@ -1,0 +1,33 @@
+#version 460
+// Shadow volumes on the GPU, stage 1 (Everitt–Kilgard §2): how each triangle of a caster faces
+// its light, from the triangle's plane evaluated at the homogeneous light position,
+// d = n·L.xyz − (n·a)·L.w with n = (b − a) × (c − a), in the caster's object space. Every
+// operation in the order `umbra_scene::facing` does it in f32, and `precise` (no
+// contraction into fused multiply-adds), so a light in the plane of a face classifies alike.
+#include "shadow_volume/gpu_volume.glsl"
+
+layout(local_size_x = 64) in;
+
+layout(push_constant) uniform Push {
+    uint job;
+} push;
+
+void main() {
+    VolumeJob j = jobs[push.job];
+    uint t = gl_GlobalInvocationID.x;
+    if (t >= j.triangle_count) {
+        return;
+    }
+    uvec4 tri = volume_triangles[j.triangles + t];
+    vec3 a = volume_positions[tri.x].xyz;
+    vec3 b = volume_positions[tri.y].xyz;
+    vec3 c = volume_positions[tri.z].xyz;
+    precise vec3 e1 = b - a;
+    precise vec3 e2 = c - a;
+    precise vec3 n = vec3(e1.y * e2.z - e2.y * e1.z, e1.z * e2.x - e2.z * e1.x, e1.x * e2.y - e2.x * e1.y);
+    vec4 l = j.light;
+    precise float towards_light = n.x * l.x + n.y * l.y + n.z * l.z;
+    precise float towards_vertex = n.x * a.x + n.y * a.y + n.z * a.z;
+    precise float d = towards_light - towards_vertex * l.w;
+    facing[j.facing + t] = d > 0.0 ? FACING_TOWARDS : (d < 0.0 ? FACING_AWAY : FACING_EDGE_ON);
+}

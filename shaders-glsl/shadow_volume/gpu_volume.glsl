@@ -1,0 +1,70 @@
+// Shadow volumes built on the GPU (crates/umbra-shadows/src/shadow_volume/gpu.rs): every
+// mesh's welded adjacency (umbra_scene::Adjacency), concatenated, and per caster and light a
+// job. Layouts mirror `gpu.rs`; change both together.
+#ifndef UMBRA_SHADOW_VOLUME_GPU_VOLUME_GLSL
+#define UMBRA_SHADOW_VOLUME_GPU_VOLUME_GLSL
+
+#ifndef VOLUME_SET
+#define VOLUME_SET 0
+#endif
+
+// One caster's volume for one light.
+struct VolumeJob {
+    vec4 light;          // the light in the caster's object space, as the host computes it
+    uint triangles;      // its mesh's first triangle
+    uint triangle_count;
+    uint edges;          // its mesh's first edge
+    uint edge_count;
+    uint facing;         // its first entry in `facing` (one per triangle)
+    uint list;           // its first entry in `silhouettes`
+    uint closed;         // 1: a closed 2-manifold mesh (umbra_scene::TopologyReport::closed)
+    uint pad;
+};
+
+// How a triangle faces the light (umbra_scene::Facing).
+const uint FACING_AWAY = 0u;
+const uint FACING_TOWARDS = 1u;
+const uint FACING_EDGE_ON = 2u;
+
+// Welded positions (w = 1) of every mesh.
+layout(set = VOLUME_SET, binding = 0, std430) readonly buffer VolumePositions {
+    vec4 volume_positions[];
+};
+
+// Triangles over the welded positions (indices already offset to the mesh's first vertex).
+layout(set = VOLUME_SET, binding = 1, std430) readonly buffer VolumeTriangles {
+    uvec4 volume_triangles[];
+};
+
+// Edges: x, y the welded vertices (smaller first, offset), z the first of its faces in
+// `edge_faces`, w how many faces use it.
+layout(set = VOLUME_SET, binding = 2, std430) readonly buffer VolumeEdges {
+    uvec4 volume_edges[];
+};
+
+// A face's use of an edge: the face (within its mesh) << 1 | 1 when it walks x -> y.
+layout(set = VOLUME_SET, binding = 3, std430) readonly buffer VolumeEdgeFaces {
+    uint edge_faces[];
+};
+
+layout(set = VOLUME_SET, binding = 4, std430) readonly buffer VolumeJobs {
+    VolumeJob jobs[];
+};
+
+layout(set = VOLUME_SET, binding = 5, std430) buffer VolumeFacing {
+    uint facing[];
+};
+
+// A silhouette edge: the edge (within its mesh) << 1 | 1 when its casting faces walk y -> x;
+// repeated with its multiplicity.
+layout(set = VOLUME_SET, binding = 6, std430) buffer VolumeSilhouettes {
+    uint silhouettes[];
+};
+
+// Per job a VkDrawIndirectCommand of its side triangles: x vertices (6 per silhouette edge),
+// y instances (1), z first vertex (6 * job.list), w first instance (0).
+layout(set = VOLUME_SET, binding = 7, std430) buffer VolumeDraws {
+    uvec4 volume_draws[];
+};
+
+#endif
