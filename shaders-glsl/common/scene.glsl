@@ -47,10 +47,15 @@ layout(set = 0, binding = 3, std430) readonly buffer ShadowViews {
     mat4 shadow_views[];
 };
 
-// `view` indexes the lights (forward passes) or `shadow_views` (shadow-map passes).
+// `view` indexes the lights (forward passes) or `shadow_views` (shadow-map passes); `job`, in
+// shaders that define UMBRA_PUSH_JOB, a caster's job of the volumes built on the GPU
+// (shadow_volume/gpu_volume.glsl).
 layout(push_constant) uniform Push {
     uint object;
     uint view;
+#ifdef UMBRA_PUSH_JOB
+    uint job;
+#endif
 } push;
 
 #endif

@@ -4,6 +4,7 @@
 // d = n·L.xyz − (n·a)·L.w with n = (b − a) × (c − a), in the caster's object space. Every
 // operation in the order `umbra_scene::facing` does it in f32, and `precise` (no
 // contraction into fused multiply-adds), so a light in the plane of a face classifies alike.
+#define VOLUME_WRITES
 #include "shadow_volume/gpu_volume.glsl"
 
 layout(local_size_x = 64) in;

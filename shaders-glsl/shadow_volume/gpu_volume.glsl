@@ -8,6 +8,14 @@
 #define VOLUME_SET 0
 #endif
 
+// The stages that write (compute) define VOLUME_WRITES; the vertex shaders read only, as
+// devices without vertexPipelineStoresAndAtomics require.
+#ifdef VOLUME_WRITES
+#define VOLUME_WRITTEN
+#else
+#define VOLUME_WRITTEN readonly
+#endif
+
 // One caster's volume for one light.
 struct VolumeJob {
     vec4 light;          // the light in the caster's object space, as the host computes it
@@ -51,19 +59,19 @@ layout(set = VOLUME_SET, binding = 4, std430) readonly buffer VolumeJobs {
     VolumeJob jobs[];
 };
 
-layout(set = VOLUME_SET, binding = 5, std430) buffer VolumeFacing {
+layout(set = VOLUME_SET, binding = 5, std430) VOLUME_WRITTEN buffer VolumeFacing {
     uint facing[];
 };
 
 // A silhouette edge: the edge (within its mesh) << 1 | 1 when its casting faces walk y -> x;
 // repeated with its multiplicity.
-layout(set = VOLUME_SET, binding = 6, std430) buffer VolumeSilhouettes {
+layout(set = VOLUME_SET, binding = 6, std430) VOLUME_WRITTEN buffer VolumeSilhouettes {
     uint silhouettes[];
 };
 
 // Per job a VkDrawIndirectCommand of its side triangles: x vertices (6 per silhouette edge),
 // y instances (1), z first vertex (6 * job.list), w first instance (0).
-layout(set = VOLUME_SET, binding = 7, std430) buffer VolumeDraws {
+layout(set = VOLUME_SET, binding = 7, std430) VOLUME_WRITTEN buffer VolumeDraws {
     uvec4 volume_draws[];
 };
 

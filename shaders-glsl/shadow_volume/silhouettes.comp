@@ -5,6 +5,7 @@
 // edge one way and −1 the other. An edge whose count is not 0 is appended to the job's list
 // as many times, directed as its casting faces walk it, and its side quads (6 vertices each)
 // are added to the job's indirect draw.
+#define VOLUME_WRITES
 #include "shadow_volume/gpu_volume.glsl"
 
 layout(local_size_x = 64) in;

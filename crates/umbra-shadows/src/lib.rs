@@ -53,7 +53,7 @@ pub use ray_traced::TraversalReport;
 pub use renderer::{Frame, Renderer, RendererDesc, COLOR_FORMAT};
 pub use report::{FrameReport, MeshTopology, SceneSummary, TopologySource, VolumeConstruction};
 pub use shadow_map::{DepthBias, ShadowFilter, ShadowMapSettings};
-pub use shadow_volume::{FarPlane, HostClip, ShadowVolumeSettings, VolumeMode};
+pub use shadow_volume::{FarPlane, HostClip, ShadowVolumeSettings, VolumeBuild, VolumeMode};
 pub use shadows::{
     DepthTarget, FrameInputs, IndexStream, Instance, InstanceId, LightShadows, MeshBuffers, MeshId, RebuildReason,
     SampledImage, ShadowFrame, ShadowMapOutput, Shadows, ShadowsDesc, VertexStream,

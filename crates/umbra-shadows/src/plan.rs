@@ -328,6 +328,11 @@ pub struct ShadowVolumeReport {
     pub volume_fragments: Option<u64>,
     /// Per caster: object index, name and the mode it was counted with.
     pub caster_modes: Vec<CasterMode>,
+    /// Whether the volumes were built on the GPU (`VolumeBuild::Gpu`): the host only named the
+    /// casters, so `silhouette_edges` and `volume_triangles` are not counted (0) and
+    /// `cpu_build_ms` is the naming's time.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub gpu_built: bool,
 }
 
 /// The counting mode one caster used.

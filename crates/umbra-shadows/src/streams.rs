@@ -90,6 +90,10 @@ pub(crate) struct Streams {
     /// Ray-traced shadows' top-level nodes and instances (`crate::ray_traced`).
     pub ray_top: Stream,
     pub ray_instances: Stream,
+    /// Shadow volumes built on the GPU: the frame's jobs and their draws' initial values
+    /// (`shadow_volume/gpu_frame.rs`).
+    pub volume_jobs: Stream,
+    pub volume_draws: Stream,
 }
 
 impl Default for Streams {
@@ -100,6 +104,8 @@ impl Default for Streams {
             blockers: Stream::vertices("blocker boxes"),
             ray_top: Stream::storage("ray BVH top nodes"),
             ray_instances: Stream::storage("ray BVH instances"),
+            volume_jobs: Stream::storage("shadow volume jobs"),
+            volume_draws: Stream::new("shadow volume draw resets", vk::BufferUsageFlags::TRANSFER_SRC),
         }
     }
 }

@@ -192,6 +192,8 @@ pub enum BufferState {
     ComputeRead,
     /// Read and written (atomics) by compute shaders as a storage buffer.
     ComputeStorage,
+    /// Read by vertex shaders as a storage buffer and as indirect draw arguments.
+    VertexRead,
 }
 
 impl BufferState {
@@ -208,6 +210,9 @@ impl BufferState {
                 (S::DRAW_INDIRECT | S::COMPUTE_SHADER, A::INDIRECT_COMMAND_READ | A::SHADER_STORAGE_READ)
             }
             BufferState::ComputeStorage => (S::COMPUTE_SHADER, A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE),
+            BufferState::VertexRead => {
+                (S::DRAW_INDIRECT | S::VERTEX_SHADER, A::INDIRECT_COMMAND_READ | A::SHADER_STORAGE_READ)
+            }
         }
     }
 

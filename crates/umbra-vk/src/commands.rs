@@ -431,6 +431,13 @@ impl<'a> Recorder<'a> {
         unsafe { self.device().cmd_dispatch(self.cmd, groups[0], groups[1], groups[2]) };
     }
 
+    /// Draws with the bound graphics pipeline from the `VkDrawIndirectCommand` at byte `offset`
+    /// of `buffer` (written by the GPU; the buffer has `INDIRECT_BUFFER` usage).
+    pub fn draw_indirect(&mut self, buffer: &'a Buffer, offset: u64) {
+        // SAFETY: alive for 'a; one command, so no stride; usage checked by validation.
+        unsafe { self.device().cmd_draw_indirect(self.cmd, buffer.raw, offset, 1, 16) };
+    }
+
     /// Writes `words` at the start of `buffer` from the command buffer (at most 65,536 bytes;
     /// the buffer has `TRANSFER_DST` usage).
     pub fn update_buffer(&mut self, buffer: &'a Buffer, words: &[u32]) {

@@ -23,6 +23,10 @@ pub enum PassId {
     DepthRebuild,
     /// Diagnostic: world positions and normals for the exact reference.
     GBuffer,
+    /// Shadow volumes built on the GPU: how each caster's triangles face the light.
+    VolumeClassify(usize),
+    /// Shadow volumes built on the GPU: each caster's silhouette edges, listed for its draw.
+    VolumeSilhouettes(usize),
     /// Everitt–Kilgard: the stencil counts of a shadow-volume light.
     ShadowVolume(usize),
     /// A shadow-volume light's stencil counts resolved into its visibility image.
@@ -88,6 +92,8 @@ impl PassId {
             PassId::Ambient => "ambient".into(),
             PassId::DepthRebuild => "depth rebuild".into(),
             PassId::GBuffer => "g-buffer".into(),
+            PassId::VolumeClassify(l) => format!("volume classify {l}"),
+            PassId::VolumeSilhouettes(l) => format!("volume silhouettes {l}"),
             PassId::ShadowVolume(l) => format!("shadow_volume {l}"),
             PassId::StencilVisibility(l) => format!("visibility {l} (stencil)"),
             PassId::MapVisibility(l) => format!("visibility {l}"),
@@ -129,6 +135,8 @@ impl PassId {
             | PassId::HandOff => None,
             PassId::ShadowMap(l)
             | PassId::SilhouetteMap(l)
+            | PassId::VolumeClassify(l)
+            | PassId::VolumeSilhouettes(l)
             | PassId::ShadowVolume(l)
             | PassId::StencilVisibility(l)
             | PassId::MapVisibility(l)
@@ -193,6 +201,8 @@ mod tests {
             all.extend([
                 PassId::ShadowMap(l),
                 PassId::SilhouetteMap(l),
+                PassId::VolumeClassify(l),
+                PassId::VolumeSilhouettes(l),
                 PassId::ShadowVolume(l),
                 PassId::StencilVisibility(l),
                 PassId::MapVisibility(l),

@@ -19,7 +19,9 @@ use crate::shadow_volume::build::LightVolumes;
 use crate::shadow_volume::pass::VolumeBindings;
 use crate::RenderResult;
 use umbra_scene::Scene;
-use umbra_vk::{Buffer, ColorAttachment, DepthAttachment, DescriptorSet, Image, ImageState, Recorder, RenderTargets};
+use umbra_vk::{
+    Buffer, BufferState, ColorAttachment, DepthAttachment, DescriptorSet, Image, ImageState, Recorder, RenderTargets,
+};
 
 use ImageState::{ColorAttachment as Color, DepthStencilAttachment as Depth, FragmentRead as Read};
 
@@ -38,6 +40,8 @@ pub(super) struct FrameInputs<'a> {
     /// The frame's silhouette edges and shadow-volume vertices (none when empty).
     pub edges: Option<&'a Buffer>,
     pub volumes: Option<&'a Buffer>,
+    /// The draws' initial values of the shadow volumes built on the GPU (when any).
+    pub volume_resets: Option<&'a Buffer>,
 }
 
 impl Renderer {
@@ -241,6 +245,10 @@ impl Renderer {
                 queries.hybrid = Some(self.declare_hybrid(stage, f, light, volumes, shadow_set)?);
                 Ok(true)
             }
+            (Some(volumes), _) if volumes.gpu.is_some() => {
+                self.declare_gpu_stencil_visibility(stage, f, light, volumes)?;
+                Ok(true)
+            }
             // A hybrid light without a map this frame is shadowed by its volumes alone.
             (Some(volumes), Some(vertices)) => {
                 self.declare_stencil_visibility(stage, f, light, volumes, vertices)?;
@@ -349,6 +357,64 @@ impl Renderer {
             cx.rec.end_rendering();
             Ok(())
         });
+        self.declare_stencil_resolve(stage, f, light)
+    }
+
+    /// Shadow volumes built on the GPU (`shadow_volume/gpu_frame.rs`): `volume classify N`,
+    /// `volume silhouettes N`, then `shadow_volume N` drawing from what they wrote and
+    /// `visibility N (stencil)` as on the CPU path.
+    fn declare_gpu_stencil_visibility<'a>(
+        &'a self,
+        stage: &mut Stage<'a>,
+        f: FrameInputs<'a>,
+        light: &'a LightFrame,
+        volumes: &'a LightVolumes,
+    ) -> RenderResult<()> {
+        let l = light.light();
+        let missing = |what: &str| crate::RenderError::InvalidInput {
+            field: format!("light {l}"),
+            why: format!("its GPU-built volumes were declared before {what} was prepared"),
+        };
+        let g = self.gpu_volumes.as_ref().ok_or_else(|| missing("the GPU path"))?;
+        let slot = self.slot.volumes.as_ref().ok_or_else(|| missing("the volumes' set"))?;
+        let (facing, list, draws) = g.written().ok_or_else(|| missing("the volumes' buffers"))?;
+        // The frame's first GPU-built light resets every job's draw.
+        let reset = f.volume_resets.filter(|_| volumes.gpu.as_ref().is_some_and(|(first, _)| *first == 0));
+        let (storage, read) = (BufferState::ComputeStorage, BufferState::VertexRead);
+        let mut uses = vec![Use::Buffer(facing, storage)];
+        uses.extend(reset.map(|_| Use::Buffer(draws, BufferState::TransferDst)));
+        stage.pass(PassId::VolumeClassify(l), &uses, move |cx| {
+            g.record_classify(cx.rec, slot, volumes, reset);
+            Ok(())
+        });
+        let uses = [Use::Buffer(facing, storage), Use::Buffer(list, storage), Use::Buffer(draws, storage)];
+        stage.pass(PassId::VolumeSilhouettes(l), &uses, move |cx| {
+            g.record_silhouettes(cx.rec, slot, volumes);
+            Ok(())
+        });
+        let (bounds, depth) = (light_bounds(light), f.depth);
+        let uses =
+            [Use::Image(depth, Depth), Use::Buffer(facing, read), Use::Buffer(list, read), Use::Buffer(draws, read)];
+        stage.pass(PassId::ShadowVolume(l), &uses, move |cx| {
+            let stencil = DepthAttachment::clearing_stencil(depth, 0);
+            cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(stencil) });
+            let fold = self.shadow_volume.fold();
+            g.record_stencil(cx.rec, f.gpu, slot, volumes, l as u32, bounds, fold, cx.log);
+            cx.rec.end_rendering();
+            Ok(())
+        });
+        self.declare_stencil_resolve(stage, f, light)
+    }
+
+    /// `visibility N (stencil)`: a shadow-volume light's stencil counts resolved into its
+    /// visibility image.
+    fn declare_stencil_resolve<'a>(
+        &'a self,
+        stage: &mut Stage<'a>,
+        f: FrameInputs<'a>,
+        light: &'a LightFrame,
+    ) -> RenderResult<()> {
+        let (l, bounds, depth) = (light.light(), light_bounds(light), f.depth);
         let image = &self.visibility.light(l)?.image;
         stage.pass(PassId::StencilVisibility(l), &[Use::Image(image, Color), Use::Image(depth, Depth)], move |cx| {
             over_surfaces(cx.rec, image, Some([0.0; 4]), depth);

@@ -40,7 +40,7 @@ use crate::shadow_volume::pass::{ShadowVolumePass, VolumeInput};
 use crate::shadow_volume::FarPlane;
 use crate::silhouette_map::pass::SilhouetteMapPass;
 use crate::visibility::{self, VisibilityPass};
-use crate::RenderResult;
+use crate::{RenderError, RenderResult};
 pub(crate) use desc::depth_desc;
 use desc::{check_frame_size, frame_target};
 use record::Output;
@@ -78,6 +78,8 @@ pub struct Renderer {
     visibility: VisibilityPass,
     /// How volume vertices reach the GPU: as built, or clipped to the view on the host.
     volume_input: VolumeInput,
+    /// Shadow volumes built on the GPU (`shadow_volume.build`: `VolumeBuild::Gpu`).
+    gpu_volumes: Option<crate::shadow_volume::gpu_frame::GpuVolumes>,
     /// The computation mask of hybrid lights (`desc.hybrid.mask`, or the device's best).
     mask: MaskKind,
     /// Classification and silhouette-point targets (with `diagnostics`).
@@ -149,6 +151,7 @@ impl Renderer {
         };
         let shadow_volume =
             ShadowVolumePass::new(ctx, &layout, depth_format, &desc.shadow_volume, bounds, volume_input)?;
+        let gpu_volumes = gpu_volumes(ctx, &desc, &scene_set_layout, depth_format, volume_input, bounds)?;
         let silhouette_map = SilhouetteMapPass::new(ctx, &layout, COLOR_FORMAT, depth_format, &desc.shadow_map)?;
         let clamp = desc.shadow_volume.far_plane == FarPlane::DepthClamp;
         let hybrid =
@@ -226,6 +229,7 @@ impl Renderer {
             checked: CheckedMeshes::default(),
             visibility,
             volume_input,
+            gpu_volumes,
             mask,
             diagnostic_targets,
             meshes: MeshCache::default(),
@@ -340,4 +344,37 @@ fn no_targets() -> crate::RenderError {
         field: "Renderer::render".into(),
         why: "this renderer records into an engine's frame (Shadows::record) and has no targets of its own".into(),
     }
+}
+
+/// The GPU path of shadow volumes, when `desc` asks for it: refused (naming the setting) where
+/// the device needs volumes clipped on the host, with the overdraw diagnostic, or on a
+/// graphics queue that runs no compute.
+fn gpu_volumes(
+    ctx: &Context,
+    desc: &RendererDesc,
+    scene_set_layout: &DescriptorSetLayout,
+    depth_format: vk::Format,
+    input: VolumeInput,
+    bounds: bool,
+) -> RenderResult<Option<crate::shadow_volume::gpu_frame::GpuVolumes>> {
+    let settings = &desc.shadow_volume;
+    if settings.build != crate::VolumeBuild::Gpu {
+        return Ok(None);
+    }
+    let refuse = |why: &str| {
+        Err(RenderError::InvalidInput { field: "shadow_volume.build".into(), why: format!("VolumeBuild::Gpu {why}") })
+    };
+    if input == VolumeInput::HostClipped {
+        return refuse(
+            "cannot clip volumes on the host, which this device needs (set host_clip to Never to draw them unclipped)",
+        );
+    }
+    if settings.overdraw {
+        return refuse("has no overdraw diagnostic yet (shadow_volume.overdraw)");
+    }
+    if !ctx.capabilities().compute_queue {
+        return refuse(&format!("needs compute on the graphics queue, which {} lacks", ctx.capabilities().device_name));
+    }
+    let clamp = settings.far_plane == FarPlane::DepthClamp;
+    Ok(Some(crate::shadow_volume::gpu_frame::GpuVolumes::new(ctx, scene_set_layout, depth_format, clamp, bounds)?))
 }

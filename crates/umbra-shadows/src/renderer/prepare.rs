@@ -202,9 +202,10 @@ impl Renderer {
     }
 
     /// Shadow volumes: every caster's volume per light, built on the CPU (z-fail only for
-    /// hybrid lights, Chan–Durand §3 step 3; none for a hybrid light without a map).
+    /// hybrid lights, Chan–Durand §3 step 3; none for a hybrid light without a map), or for
+    /// shadow-volume lights with `VolumeBuild::Gpu` named as jobs of the GPU path.
     pub(super) fn prepare_volumes(
-        &self,
+        &mut self,
         scene: &Scene,
         view: &FrameView,
         adjacency: &[Arc<Adjacency>],
@@ -212,6 +213,8 @@ impl Renderer {
         streams: &mut Streams,
     ) -> RenderResult<()> {
         let mut vertices = Vec::new();
+        let mut jobs = Vec::new();
+        let mut next = (0u32, 0u32);
         for light in lights.iter_mut() {
             let plan = &light.plan;
             let shadowed = plan.recorded && plan.shadowed;
@@ -223,6 +226,15 @@ impl Renderer {
             let mode = wanted.mode(self.desc.shadow_volume.mode);
             let source = &scene.lights[plan.light];
             let boxes = &view.boxes;
+            if let (Volumes::Settings, Some(g)) = (wanted, self.gpu_volumes.as_mut()) {
+                g.prepare_arrays(&self.ctx, adjacency, &mut self.slot.retired)?;
+                let (casters, ranges) = (&plan.volume_casters, g.ranges());
+                let v = volumes::jobs_for_light(
+                    scene, casters, adjacency, ranges, boxes, source, &view.view, mode, &mut jobs, &mut next,
+                );
+                light.volumes = Some(v);
+                continue;
+            }
             let v = volumes::build_light(
                 scene,
                 &plan.volume_casters,
@@ -234,6 +246,17 @@ impl Renderer {
                 &mut vertices,
             );
             light.volumes = Some(v);
+        }
+        if let (Some(g), false) = (self.gpu_volumes.as_mut(), jobs.is_empty()) {
+            let resets: Vec<[u32; 4]> = jobs.iter().map(|j| [0, 1, 6 * j.list, 0]).collect();
+            streams.volume_draws.fill(&self.ctx, &resets)?;
+            let retired = &mut self.slot.retired;
+            g.prepare_written(&self.ctx, u64::from(next.0), u64::from(next.1), jobs.len() as u64, retired)?;
+            streams.volume_jobs.fill(&self.ctx, &jobs)?;
+            if let Some(buffer) = streams.volume_jobs.buffer() {
+                let generation = streams.volume_jobs.generation();
+                g.prepare_slot(&self.ctx, &mut self.slot.volumes, buffer, generation, retired)?;
+            }
         }
         if self.volume_input == VolumeInput::Built {
             streams.volumes.fill(&self.ctx, &vertices)?;

@@ -138,6 +138,7 @@ impl Renderer {
         graph.begin_frame();
         let bindings = &self.bindings(sets);
         let (edges, volumes) = (streams.edges.filled(), streams.volumes.filled());
+        let volume_resets = streams.volume_draws.filled();
         // The depth the passes test: the renderer's own, the engine's as handed over, or
         // umbra's own, re-drawn first.
         let (depth, handed_over, rebuild) = match &out {
@@ -154,7 +155,7 @@ impl Renderer {
         let mut stages = Vec::new();
         let boxes = streams.blockers.filled().filter(|_| !culling.boxes.is_empty());
         if let Some(boxes) = boxes {
-            let f = FrameInputs { scene, gpu, lights, bindings, depth, rebuild, edges, volumes };
+            let f = FrameInputs { scene, gpu, lights, bindings, depth, rebuild, edges, volumes, volume_resets };
             let mut views = graph.stage("frame: views and blocker culling");
             self.declare_views(&mut views, f)?;
             let first = self.declare_culling(&mut views, f, &culling, boxes)?;
@@ -169,7 +170,7 @@ impl Renderer {
             stages.push(done);
         }
         self.settle_volumes(scene, lights, &culling);
-        let f = FrameInputs { scene, gpu, lights, bindings, depth, rebuild, edges, volumes };
+        let f = FrameInputs { scene, gpu, lights, bindings, depth, rebuild, edges, volumes, volume_resets };
         let own = matches!(out, Output::Own);
         let mut stage = graph.stage(if own { "frame" } else { "umbra shadows" });
         if stages.is_empty() {

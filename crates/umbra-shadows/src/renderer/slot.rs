@@ -32,6 +32,8 @@ pub(crate) struct FrameSlot {
     pub retired: Retired,
     /// The ray-tracing BVH's set over this slot's top level (with ray-traced lights).
     pub rays: Option<crate::ray_traced::pass::SlotRays>,
+    /// The set of the shadow volumes built on the GPU over this slot's jobs.
+    pub volumes: Option<crate::shadow_volume::gpu_frame::SlotVolumes>,
 }
 
 impl FrameSlot {
@@ -48,6 +50,7 @@ impl FrameSlot {
             upload: None,
             retired: Retired::default(),
             rays: None,
+            volumes: None,
         })
     }
 

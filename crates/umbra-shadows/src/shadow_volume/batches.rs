@@ -124,6 +124,7 @@ mod tests {
                 cut_caps: 0,
                 count_bound,
                 stats: Default::default(),
+                job: None,
             })
             .collect()
     }

@@ -30,6 +30,8 @@ pub(crate) struct CasterVolume {
     /// (`Adjacency::convex`), else its cap triangles (each adds at most 1).
     pub count_bound: u32,
     pub stats: VolumeStats,
+    /// Built on the GPU: its job (`gpu.rs`), and `first`/`count` are 0.
+    pub job: Option<u32>,
 }
 
 /// Every caster's volume for one light.
@@ -42,6 +44,8 @@ pub(crate) struct LightVolumes {
     /// The batches the casters are counted in, as ranges of `casters` (`batches.rs`): all at
     /// once until [`Self::plan_batches`] runs on the final casters.
     pub batches: Vec<std::ops::Range<usize>>,
+    /// Built on the GPU (`gpu_frame.rs`): the frame's index of its first job, and its jobs.
+    pub gpu: Option<(usize, Vec<super::gpu::VolumeJob>)>,
 }
 
 impl LightVolumes {
@@ -74,6 +78,7 @@ impl LightVolumes {
                     triangles: c.count as usize / 3,
                 })
                 .collect(),
+            gpu_built: self.gpu.is_some(),
         }
     }
 }
@@ -132,11 +137,71 @@ pub(crate) fn build_light(
             cut_caps: 0,
             count_bound,
             stats,
+            job: None,
         });
         vertices.extend(verts);
     }
     let batches = std::iter::once(0..casters.len()).collect();
-    LightVolumes { casters, cpu_ms: started.elapsed().as_secs_f64() * 1e3, host_clipped: false, batches }
+    LightVolumes { casters, cpu_ms: started.elapsed().as_secs_f64() * 1e3, host_clipped: false, batches, gpu: None }
+}
+
+/// Names the volumes of `light` for the objects `casters` as jobs of the GPU path (`gpu.rs`),
+/// appended to `jobs` over `arrays` (every mesh's adjacency, in mesh order), with their facing
+/// and list entries after `next` (advanced): the counting mode per caster as [`build_light`]
+/// decides it, nothing per triangle.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn jobs_for_light(
+    scene: &Scene,
+    casters: &[usize],
+    adjacency: &[Arc<Adjacency>],
+    arrays: &super::gpu::MeshRanges,
+    boxes: &[Option<Aabb>],
+    light: &Light,
+    view: &View,
+    mode: VolumeMode,
+    jobs: &mut Vec<super::gpu::VolumeJob>,
+    next: &mut (u32, u32),
+) -> LightVolumes {
+    let started = std::time::Instant::now();
+    let near_region = NearRegion::new(view, light.position);
+    let first = jobs.len();
+    let mut out = Vec::with_capacity(casters.len());
+    for &i in casters {
+        let (Some(o), Some(bounds)) = (scene.objects.get(i), boxes.get(i).copied().flatten()) else { continue };
+        let (Some(adj), Some(range)) = (adjacency.get(o.mesh), arrays.get(o.mesh)) else { continue };
+        let local = o.transform.inverse() * light.position;
+        let counting = match mode {
+            VolumeMode::ZPass => Counting::ZPass,
+            VolumeMode::ZFail => Counting::ZFail,
+            VolumeMode::Auto if near_region.may_touch(&bounds) => Counting::ZFail,
+            VolumeMode::Auto => Counting::ZPass,
+        };
+        let job = range.job(local, next.0, next.1);
+        next.0 += job.triangle_count;
+        next.1 += range.list_bound;
+        // Caps a ray may cross: a closed caster's triangles, an open one's twice (edge-on ones,
+        // which make none, are not known on the host).
+        let faces = (adj.report.triangles - adj.report.degenerate_triangles) as u32;
+        let count_bound = match (adj.convex, adj.report.closed) {
+            (true, _) => 1,
+            (false, true) => faces,
+            (false, false) => 2 * faces,
+        };
+        out.push(CasterVolume {
+            object: i,
+            counting,
+            first: 0,
+            count: 0,
+            cut_caps: 0,
+            count_bound,
+            stats: VolumeStats::default(),
+            job: Some(jobs.len() as u32),
+        });
+        jobs.push(job);
+    }
+    let batches = std::iter::once(0..out.len()).collect();
+    let gpu = Some((first, jobs[first..].to_vec()));
+    LightVolumes { casters: out, cpu_ms: started.elapsed().as_secs_f64() * 1e3, host_clipped: false, batches, gpu }
 }
 
 /// The near-plane clip region of §3.4: the convex hull of the camera's near rectangle and the

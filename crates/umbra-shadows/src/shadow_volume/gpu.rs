@@ -98,18 +98,28 @@ impl AdjacencyArrays {
     /// The job of mesh `mesh` for `light` (in the caster's object space), its facing and list
     /// entries starting at `facing` and `list`.
     pub fn job(&self, mesh: usize, light: Vec4, facing: u32, list: u32) -> Option<VolumeJob> {
-        let m = self.meshes.get(mesh)?;
-        Some(VolumeJob {
+        Some(self.meshes.get(mesh)?.job(light, facing, list))
+    }
+}
+
+/// Every mesh's place in the [`AdjacencyArrays`], by mesh index.
+pub(crate) type MeshRanges = [MeshRange];
+
+impl MeshRange {
+    /// This mesh's job for `light` (in the caster's object space), its facing and list entries
+    /// starting at `facing` and `list`.
+    pub fn job(&self, light: Vec4, facing: u32, list: u32) -> VolumeJob {
+        VolumeJob {
             light: light.to_array(),
-            triangles: m.triangles,
-            triangle_count: m.triangle_count,
-            edges: m.edges,
-            edge_count: m.edge_count,
+            triangles: self.triangles,
+            triangle_count: self.triangle_count,
+            edges: self.edges,
+            edge_count: self.edge_count,
             facing,
             list,
-            closed: u32::from(m.closed),
+            closed: u32::from(self.closed),
             pad: 0,
-        })
+        }
     }
 }
 
@@ -134,7 +144,8 @@ struct RunBuffers {
 impl GpuSilhouettes {
     /// The pipelines of both stages.
     pub fn new(ctx: &Context) -> RenderResult<Self> {
-        let (ty, stages) = (vk::DescriptorType::STORAGE_BUFFER, vk::ShaderStageFlags::COMPUTE);
+        let (ty, stages) =
+            (vk::DescriptorType::STORAGE_BUFFER, vk::ShaderStageFlags::COMPUTE | vk::ShaderStageFlags::VERTEX);
         let bindings: Vec<Binding> = (0..8).map(|binding| Binding { binding, ty, stages }).collect();
         let set_layout = DescriptorSetLayout::new(ctx, "gpu shadow volume layout", &bindings)?;
         let layout = PipelineLayout::new(ctx, "gpu shadow volume stages", &[&set_layout], 4)?;
@@ -221,28 +232,60 @@ impl GpuSilhouettes {
     }
 
     /// Records both stages for every job of `jobs` (their facing in `facing`, their draws
-    /// ready in `ComputeStorage`): classify each job, one barrier, then each job's silhouettes.
-    pub(crate) fn record<'a>(
+    /// ready in `ComputeStorage`): each job classified, one barrier, each job's silhouettes.
+    fn record<'a>(&'a self, rec: &mut Recorder<'a>, set: &'a DescriptorSet, facing: &'a Buffer, jobs: &[VolumeJob]) {
+        self.record_classify(rec, set, 0, jobs);
+        let storage = BufferState::ComputeStorage;
+        rec.buffer_transition(&[(facing, storage, storage)]);
+        self.record_silhouettes(rec, set, 0, jobs);
+    }
+
+    /// Stage 1 for `jobs`, the frame's jobs from index `first` on.
+    pub(crate) fn record_classify<'a>(
         &'a self,
         rec: &mut Recorder<'a>,
         set: &'a DescriptorSet,
-        facing: &'a Buffer,
+        first: usize,
         jobs: &[VolumeJob],
     ) {
-        let groups = |n: u32| n.div_ceil(GROUP);
         rec.bind_compute_pipeline(&self.classify);
         rec.bind_compute_set(&self.layout, 0, set);
-        for (i, job) in jobs.iter().enumerate().filter(|(_, j)| j.triangle_count > 0) {
-            rec.push_constants(&self.layout, &(i as u32));
-            rec.dispatch([groups(job.triangle_count), 1, 1]);
-        }
-        let storage = BufferState::ComputeStorage;
-        rec.buffer_transition(&[(facing, storage, storage)]);
+        self.dispatch_jobs(rec, first, jobs, |j| j.triangle_count);
+    }
+
+    /// Stage 2 for `jobs`, the frame's jobs from index `first` on (after their facing).
+    pub(crate) fn record_silhouettes<'a>(
+        &'a self,
+        rec: &mut Recorder<'a>,
+        set: &'a DescriptorSet,
+        first: usize,
+        jobs: &[VolumeJob],
+    ) {
         rec.bind_compute_pipeline(&self.silhouettes);
-        for (i, job) in jobs.iter().enumerate().filter(|(_, j)| j.edge_count > 0) {
-            rec.push_constants(&self.layout, &(i as u32));
-            rec.dispatch([groups(job.edge_count), 1, 1]);
+        rec.bind_compute_set(&self.layout, 0, set);
+        self.dispatch_jobs(rec, first, jobs, |j| j.edge_count);
+    }
+
+    /// One dispatch per job with work, `items(job)` invocations each, pushing its index.
+    fn dispatch_jobs<'a>(
+        &'a self,
+        rec: &mut Recorder<'a>,
+        first: usize,
+        jobs: &[VolumeJob],
+        items: impl Fn(&VolumeJob) -> u32,
+    ) {
+        for (k, job) in jobs.iter().enumerate() {
+            let n = items(job);
+            if n > 0 {
+                rec.push_constants(&self.layout, &((first + k) as u32));
+                rec.dispatch([n.div_ceil(GROUP), 1, 1]);
+            }
         }
+    }
+
+    /// The layout of the stages' set (set 1 of the volume draws).
+    pub(crate) fn set_layout(&self) -> &DescriptorSetLayout {
+        &self.set_layout
     }
 
     /// The arrays and jobs in storage buffers, with `facing` and `list` entries for what the

@@ -17,8 +17,9 @@ pub(crate) mod batches;
 pub(crate) mod build;
 pub(crate) mod clip;
 pub(crate) mod gpu;
+pub(crate) mod gpu_frame;
 pub(crate) mod pass;
 mod settings;
 
 pub use gpu::GpuSilhouettes;
-pub use settings::{FarPlane, HostClip, ShadowVolumeSettings, VolumeMode};
+pub use settings::{FarPlane, HostClip, ShadowVolumeSettings, VolumeBuild, VolumeMode};

@@ -21,11 +21,14 @@ pub(crate) const VOLUME_ATTRIBUTES: [VertexAttribute; 1] =
 pub(crate) const VOLUME_STRIDE: u32 = 16;
 
 /// What the volume pipelines read: the volume vertices as built, or clipped on the host
-/// ([`crate::HostClip`], `clip.rs`).
+/// ([`crate::HostClip`], `clip.rs`); or, for volumes built on the GPU (`gpu.rs`), a caster's
+/// silhouette list (its sides) or its mesh's triangles and their facing (its caps).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum VolumeInput {
     Built,
     HostClipped,
+    GpuSides,
+    GpuCaps,
 }
 
 impl VolumeInput {
@@ -41,6 +44,14 @@ impl VolumeInput {
                 desc.vertex = umbra_shaders::shadow_volume::EXTRUDE_CLIPPED_VERT;
                 desc.vertex_stride = super::clip::CLIPPED_STRIDE;
                 desc.vertex_attributes = &super::clip::CLIPPED_ATTRIBUTES;
+            }
+            VolumeInput::GpuSides | VolumeInput::GpuCaps => {
+                desc.vertex = match self {
+                    VolumeInput::GpuSides => umbra_shaders::shadow_volume::GPU_SIDES_VERT,
+                    _ => umbra_shaders::shadow_volume::GPU_CAPS_VERT,
+                };
+                desc.vertex_stride = 0;
+                desc.vertex_attributes = &[];
             }
         }
     }
@@ -165,13 +176,53 @@ fn counting_pair(
     Ok((Bounded::new(ctx, layout, desc, depth_bounds)?, Bounded::new(ctx, layout, &twin, depth_bounds)?))
 }
 
-/// Pipelines of the shadow-volume technique.
-pub(crate) struct ShadowVolumePass {
+/// The four counting pipelines of one volume input: z-fail and z-pass, each alone and in a
+/// batch's bits (`batches.rs`), each with its depth-bounds twin where the device has them.
+pub(crate) struct Counting4 {
     zfail: Bounded,
     zpass: Bounded,
-    /// The same, counting in a batch's bits (`batches.rs`).
     zfail_batch: Bounded,
     zpass_batch: Bounded,
+}
+
+impl Counting4 {
+    /// The pipelines reading `input` against `layout`.
+    pub fn new(
+        ctx: &Context,
+        layout: &PipelineLayout,
+        depth_format: vk::Format,
+        clamp: bool,
+        depth_bounds: bool,
+        input: VolumeInput,
+    ) -> RenderResult<Self> {
+        let counting = |desc: &GraphicsPipelineDesc<'_>, batch| counting_pair(ctx, layout, desc, batch, depth_bounds);
+        let mut desc = zfail_desc(depth_format, clamp, input);
+        let (zfail, zfail_batch) = counting(&desc, "shadow volume z-fail (batch)")?;
+        desc.name = "shadow volume z-pass";
+        desc.stencil = Some(zpass_faces());
+        let (zpass, zpass_batch) = counting(&desc, "shadow volume z-pass (batch)")?;
+        Ok(Self { zfail, zpass, zfail_batch, zpass_batch })
+    }
+
+    /// The pipeline counting `counting`, in a batch's bits when `batched`.
+    pub fn pick(&self, counting: Counting, batched: bool) -> &Bounded {
+        match (counting, batched) {
+            (Counting::ZFail, false) => &self.zfail,
+            (Counting::ZPass, false) => &self.zpass,
+            (Counting::ZFail, true) => &self.zfail_batch,
+            (Counting::ZPass, true) => &self.zpass_batch,
+        }
+    }
+}
+
+/// z-pass: front faces increment, back faces decrement where the depth test passes.
+fn zpass_faces() -> (StencilFace, StencilFace) {
+    (face(vk::StencilOp::INCREMENT_AND_WRAP, false), face(vk::StencilOp::DECREMENT_AND_WRAP, false))
+}
+
+/// Pipelines of the shadow-volume technique.
+pub(crate) struct ShadowVolumePass {
+    counting: Counting4,
     /// Between batches: the batch's "count ≠ 0" kept in the fold bit, the count cleared.
     fold: GraphicsPipeline,
     overdraw: Option<GraphicsPipeline>,
@@ -189,18 +240,12 @@ impl ShadowVolumePass {
         input: VolumeInput,
     ) -> RenderResult<Self> {
         let clamp = settings.far_plane == FarPlane::DepthClamp;
-        let counting = |desc: &GraphicsPipelineDesc<'_>, batch| counting_pair(ctx, layout, desc, batch, depth_bounds);
+        let counting = Counting4::new(ctx, layout, depth_format, clamp, depth_bounds, input)?;
         let mut desc = zfail_desc(depth_format, clamp, input);
-        let (zfail, zfail_batch) = counting(&desc, "shadow volume z-fail (batch)")?;
-        desc.name = "shadow volume z-pass";
-        // z-pass: front faces increment, back faces decrement where the depth test passes.
-        desc.stencil =
-            Some((face(vk::StencilOp::INCREMENT_AND_WRAP, false), face(vk::StencilOp::DECREMENT_AND_WRAP, false)));
-        let (zpass, zpass_batch) = counting(&desc, "shadow volume z-pass (batch)")?;
+        desc.name = "shadow volume overdraw";
         let fold =
             GraphicsPipeline::new(ctx, layout, &fold_desc("shadow volume batch fold", depth_format, FULL_STENCIL))?;
         let overdraw = if settings.overdraw {
-            desc.name = "shadow volume overdraw";
             desc.fragment = Some(umbra_shaders::shadow_volume::OVERDRAW_FRAG);
             desc.stencil = None;
             desc.depth = DepthState { clamp, ..DepthState::NONE };
@@ -211,7 +256,7 @@ impl ShadowVolumePass {
         } else {
             None
         };
-        Ok(Self { zfail, zpass, zfail_batch, zpass_batch, fold, overdraw })
+        Ok(Self { counting, fold, overdraw })
     }
 
     /// Records light `light`'s volumes into the stencil buffer (inside a rendering pass with
@@ -233,22 +278,21 @@ impl ShadowVolumePass {
                 if casters.clone().next().is_none() {
                     continue;
                 }
-                let pipeline = match (counting, batched) {
-                    (Counting::ZFail, false) => &self.zfail,
-                    (Counting::ZPass, false) => &self.zpass,
-                    (Counting::ZFail, true) => &self.zfail_batch,
-                    (Counting::ZPass, true) => &self.zpass_batch,
-                };
-                pipeline.bind(rec, bounds);
+                self.counting.pick(counting, batched).bind(rec, bounds);
                 rec.set_stencil_reference(0);
                 b.draw_counting(rec, casters, volumes.host_clipped, light, log);
             }
         });
     }
 
+    /// The fold between batches (`batches.rs`).
+    pub fn fold(&self) -> &GraphicsPipeline {
+        &self.fold
+    }
+
     /// The z-fail counting pipeline, unmasked.
     pub fn zfail(&self) -> &GraphicsPipeline {
-        self.zfail.plain()
+        self.counting.zfail.plain()
     }
 
     /// Records the overdraw image's draws for light `light` (inside a rendering pass over the

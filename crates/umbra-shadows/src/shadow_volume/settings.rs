@@ -83,6 +83,22 @@ impl HostClip {
     }
 }
 
+/// Where shadow volumes are built (issue #26).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum VolumeBuild {
+    /// On the host, every frame (`build.rs`, the reference implementation).
+    #[default]
+    Cpu,
+    /// In compute (`gpu.rs`): each mesh's adjacency uploaded once, then per caster and light
+    /// the triangles' facing and the silhouette edges found on the GPU and the volume drawn
+    /// from them indirectly; the host only names the casters. The same volumes as the CPU's
+    /// (`tests/gpu_volumes.rs`). For `shadow_volume` lights (hybrid lights keep the CPU
+    /// path for now); needs a graphics queue that runs compute, and refuses host clipping and
+    /// the overdraw diagnostic, which only the CPU path has.
+    Gpu,
+}
+
 /// How lights whose technique is `shadow_volume` are rendered.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct ShadowVolumeSettings {
@@ -97,4 +113,7 @@ pub struct ShadowVolumeSettings {
     /// needs it).
     #[serde(default)]
     pub host_clip: HostClip,
+    /// Where the volumes are built ([`VolumeBuild`]; default: on the host).
+    #[serde(default)]
+    pub build: VolumeBuild,
 }

@@ -1,0 +1,257 @@
+//! The renderer's shadow volumes built on the GPU ([`crate::VolumeBuild::Gpu`]), per light:
+//! 1. `volume classify N` (`classify.comp`), every caster's triangles' facing; the first light's
+//!    pass also resets every job's indirect draw (zero vertices, its list's first vertex);
+//! 2. `volume silhouettes N` (`silhouettes.comp`), every caster's silhouette list and draw;
+//! 3. `shadow_volume N`, the counting draws: per caster its sides from its list, drawn
+//!    indirectly (`gpu_sides.vert`), and in z-fail its caps from its mesh's triangles and their
+//!    facing (`gpu_caps.vert`), with the counting pipelines and batches of the CPU path.
+//!
+//! The adjacency arrays are uploaded when the scene's meshes change; the facing, lists and
+//! draws live on the GPU only, sized for the largest frame so far; the jobs and the draws'
+//! initial values are the frame slot's, written by the host each frame (`Streams`).
+
+use super::batches::{record_in_batches, FULL_STENCIL};
+use super::build::{Counting, LightVolumes};
+use super::gpu::{AdjacencyArrays, GpuSilhouettes, MeshRange};
+use super::pass::{Counting4, VolumeInput};
+use crate::forward::PassBounds;
+use crate::gpu_scene::GpuScene;
+use crate::retired::Retired;
+use crate::timing::PassLog;
+use crate::RenderResult;
+use std::sync::Arc;
+use umbra_scene::Adjacency;
+use umbra_vk::{
+    vk, Buffer, BufferDesc, Context, DescriptorSet, DescriptorSetLayout, GraphicsPipeline, PipelineLayout, Recorder,
+    Resource,
+};
+
+/// The push constants of the volume draws: `Push` of `common/scene.glsl` with its `job`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+struct JobPush {
+    object: u32,
+    view: u32,
+    job: u32,
+}
+
+/// The meshes' adjacency on the GPU, for the meshes it was made from.
+struct Arrays {
+    meshes: Vec<Arc<Adjacency>>,
+    ranges: Vec<MeshRange>,
+    buffers: [Buffer; 4],
+}
+
+/// What the stages write, sized in entries (facing, list) and jobs.
+struct Written {
+    sizes: (u64, u64, u64),
+    facing: Buffer,
+    list: Buffer,
+    draws: Buffer,
+}
+
+/// A frame slot's set over the arrays, its jobs and what the stages write.
+pub(crate) struct SlotVolumes {
+    key: (u64, u64),
+    set: DescriptorSet,
+}
+
+/// The pipelines and buffers of the GPU path.
+pub(crate) struct GpuVolumes {
+    pub stages: GpuSilhouettes,
+    layout: PipelineLayout,
+    sides: Counting4,
+    caps: Counting4,
+    arrays: Option<Arrays>,
+    written: Option<Written>,
+    /// Counts new arrays or written buffers (a slot's set over older ones is made again).
+    generation: u64,
+}
+
+impl GpuVolumes {
+    /// The stages and the counting pipelines (against the scene's set and the stages' set).
+    pub fn new(
+        ctx: &Context,
+        scene_set_layout: &DescriptorSetLayout,
+        depth_format: vk::Format,
+        clamp: bool,
+        depth_bounds: bool,
+    ) -> RenderResult<Self> {
+        let stages = GpuSilhouettes::new(ctx)?;
+        let push = std::mem::size_of::<JobPush>() as u32;
+        let layout =
+            PipelineLayout::new(ctx, "gpu shadow volume draws", &[scene_set_layout, stages.set_layout()], push)?;
+        let sides = Counting4::new(ctx, &layout, depth_format, clamp, depth_bounds, VolumeInput::GpuSides)?;
+        let caps = Counting4::new(ctx, &layout, depth_format, clamp, depth_bounds, VolumeInput::GpuCaps)?;
+        Ok(Self { stages, layout, sides, caps, arrays: None, written: None, generation: 0 })
+    }
+
+    /// Every mesh's place in the arrays (after [`Self::prepare`]).
+    pub fn ranges(&self) -> &[MeshRange] {
+        self.arrays.as_ref().map_or(&[], |a| &a.ranges)
+    }
+
+    /// Uploads the meshes' adjacency when it is not `adjacency` already.
+    pub fn prepare_arrays(
+        &mut self,
+        ctx: &Context,
+        adjacency: &[Arc<Adjacency>],
+        retired: &mut Retired,
+    ) -> RenderResult<()> {
+        let same = self.arrays.as_ref().is_some_and(|a| {
+            a.meshes.len() == adjacency.len() && a.meshes.iter().zip(adjacency).all(|(x, y)| Arc::ptr_eq(x, y))
+        });
+        if same {
+            return Ok(());
+        }
+        retired.take(&mut self.arrays);
+        let flat = AdjacencyArrays::build(adjacency);
+        let buffer = |name: &str, bytes: &[u8]| -> RenderResult<Buffer> {
+            let bytes = if bytes.is_empty() { &[0u8; 16][..] } else { bytes };
+            // Host-visible, as the ray-traced BVH's arrays: no submission of umbra's own (an
+            // engine's frame has none).
+            let desc = BufferDesc::cpu_to_gpu(bytes.len() as u64, vk::BufferUsageFlags::STORAGE_BUFFER);
+            let mut b = Buffer::new(ctx, name, desc)?;
+            b.write(0, bytes)?;
+            Ok(b)
+        };
+        let buffers = [
+            buffer("gpu shadow volume positions", bytemuck::cast_slice(&flat.positions))?,
+            buffer("gpu shadow volume triangles", bytemuck::cast_slice(&flat.triangles))?,
+            buffer("gpu shadow volume edges", bytemuck::cast_slice(&flat.edges))?,
+            buffer("gpu shadow volume edge faces", bytemuck::cast_slice(&flat.edge_faces))?,
+        ];
+        self.generation += 1;
+        self.arrays = Some(Arrays { meshes: adjacency.to_vec(), ranges: flat.meshes, buffers });
+        Ok(())
+    }
+
+    /// Makes sure the written buffers hold `facing` and `list` entries and `jobs` draws.
+    pub fn prepare_written(
+        &mut self,
+        ctx: &Context,
+        facing: u64,
+        list: u64,
+        jobs: u64,
+        retired: &mut Retired,
+    ) -> RenderResult<()> {
+        let fits = self.written.as_ref().is_some_and(|w| w.sizes.0 >= facing && w.sizes.1 >= list && w.sizes.2 >= jobs);
+        if fits {
+            return Ok(());
+        }
+        let old = self.written.as_ref().map_or((0, 0, 0), |w| w.sizes);
+        retired.take(&mut self.written);
+        let sizes = (facing.max(old.0).max(4), list.max(old.1).max(4), jobs.max(old.2).max(1));
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let make = |name: &str, bytes: u64, usage| Buffer::new(ctx, name, BufferDesc::gpu_only(bytes, storage | usage));
+        let draws_usage = vk::BufferUsageFlags::INDIRECT_BUFFER | vk::BufferUsageFlags::TRANSFER_DST;
+        self.written = Some(Written {
+            sizes,
+            facing: make("gpu shadow volume facing", 4 * sizes.0, vk::BufferUsageFlags::empty())?,
+            list: make("gpu shadow volume silhouettes", 4 * sizes.1, vk::BufferUsageFlags::empty())?,
+            draws: make("gpu shadow volume draws", 16 * sizes.2, draws_usage)?,
+        });
+        self.generation += 1;
+        Ok(())
+    }
+
+    /// The facing, list and draws buffers (after [`Self::prepare_written`]).
+    pub fn written(&self) -> Option<(&Buffer, &Buffer, &Buffer)> {
+        self.written.as_ref().map(|w| (&w.facing, &w.list, &w.draws))
+    }
+
+    /// Makes sure `slot` holds a set over the arrays, the slot's `jobs` (of generation
+    /// `jobs_generation`) and the written buffers.
+    pub fn prepare_slot(
+        &self,
+        ctx: &Context,
+        slot: &mut Option<SlotVolumes>,
+        jobs: &Buffer,
+        jobs_generation: u64,
+        retired: &mut Retired,
+    ) -> RenderResult<()> {
+        let key = (self.generation, jobs_generation);
+        if slot.as_ref().is_some_and(|s| s.key == key) {
+            return Ok(());
+        }
+        retired.take(slot);
+        let (Some(a), Some(w)) = (&self.arrays, &self.written) else { return Ok(()) };
+        let [p, t, e, f] = &a.buffers;
+        let resources = [p, t, e, f, jobs, &w.facing, &w.list, &w.draws].map(Resource::Buffer);
+        let set = DescriptorSet::new(ctx, "gpu shadow volume", self.stages.set_layout(), &resources)?;
+        *slot = Some(SlotVolumes { key, set });
+        Ok(())
+    }
+
+    /// Stage 1 for a light's jobs; with `reset` (the frame's first light) every job's draw is
+    /// first set from the slot's `init` (the draws in TransferDst).
+    pub fn record_classify<'a>(
+        &'a self,
+        rec: &mut Recorder<'a>,
+        slot: &'a SlotVolumes,
+        volumes: &LightVolumes,
+        reset: Option<&'a Buffer>,
+    ) {
+        let (Some(w), Some((first, jobs))) = (&self.written, &volumes.gpu) else { return };
+        if let Some(init) = reset {
+            rec.copy_buffer(init, &w.draws, init.desc.size.min(w.draws.desc.size));
+        }
+        self.stages.record_classify(rec, &slot.set, *first, jobs);
+    }
+
+    /// Stage 2 for a light's jobs (after their facing).
+    pub fn record_silhouettes<'a>(&'a self, rec: &mut Recorder<'a>, slot: &'a SlotVolumes, volumes: &LightVolumes) {
+        if let Some((first, jobs)) = &volumes.gpu {
+            self.stages.record_silhouettes(rec, &slot.set, *first, jobs);
+        }
+    }
+
+    /// Light `light`'s counting draws (inside the stencil pass, its lists and draws written):
+    /// per batch of its casters, z-fail casters' sides and caps, then z-pass casters' sides.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_stencil<'a>(
+        &'a self,
+        rec: &mut Recorder<'a>,
+        gpu: &'a GpuScene,
+        slot: &'a SlotVolumes,
+        volumes: &LightVolumes,
+        light: u32,
+        bounds: PassBounds,
+        fold: &'a GraphicsPipeline,
+        log: &mut PassLog,
+    ) {
+        let (Some(w), Some((first, jobs))) = (&self.written, &volumes.gpu) else { return };
+        record_in_batches(rec, log, volumes, FULL_STENCIL, fold, |rec, log, batch, batched| {
+            for counting in [Counting::ZFail, Counting::ZPass] {
+                let casters: Vec<_> = batch.iter().filter(|c| c.counting == counting).collect();
+                if casters.is_empty() {
+                    continue;
+                }
+                // Sides, then (z-fail) caps, each with its pipeline; the sets after the
+                // pipeline, as the fold between batches binds another layout.
+                let parts: &[(&Counting4, bool)] = match counting {
+                    Counting::ZFail => &[(&self.sides, false), (&self.caps, true)],
+                    Counting::ZPass => &[(&self.sides, false)],
+                };
+                for &(pipelines, caps) in parts {
+                    pipelines.pick(counting, batched).bind(rec, bounds);
+                    rec.bind_descriptor_set(&self.layout, 0, &gpu.frame.set);
+                    rec.bind_descriptor_set(&self.layout, 1, &slot.set);
+                    rec.set_stencil_reference(0);
+                    for c in &casters {
+                        let Some(job) = c.job else { continue };
+                        rec.push_constants(&self.layout, &JobPush { object: c.object as u32, view: light, job });
+                        match (caps, jobs.get((job as usize).wrapping_sub(*first))) {
+                            (false, _) => rec.draw_indirect(&w.draws, 16 * u64::from(job)),
+                            (true, Some(j)) => {
+                                rec.draw_instanced(3 * j.triangle_count, if j.closed != 0 { 1 } else { 2 }, 0);
+                                log.count_draw(u64::from(j.triangle_count));
+                            }
+                            (true, None) => {}
+                        }
+                    }
+                }
+            }
+        });
+    }
+}
