@@ -48,18 +48,8 @@ fn scene_jobs(scene: &Scene) -> (Vec<Arc<Adjacency>>, Vec<(usize, Vec4)>) {
 #[test]
 fn gpu_silhouettes_equal_the_cpu_ones_in_every_hard_case() {
     common::with_context(|ctx| {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/hard-cases");
-        let mut files: Vec<_> = std::fs::read_dir(&dir)
-            .expect("tests/hard-cases")
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-            .collect();
-        files.sort();
         let (mut cases, mut jobs_total, mut edges_total) = (0, 0, 0);
-        for file in &files {
-            let name = file.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-            // A case whose mesh the loader refuses (21: non-finite positions) has no volume.
-            let Ok(scene) = umbra::scene::load_scene_file(file) else { continue };
+        for (name, scene) in hard_case_scenes() {
             let (meshes, jobs) = scene_jobs(&scene);
             let (j, e) = compare(ctx, &meshes, &jobs, &name);
             cases += 1;
@@ -121,8 +111,9 @@ fn render(ctx: &umbra::vk::Context, scene: &Scene, build: VolumeBuild, mode: Vol
     r.render(&s).expect("frame")
 }
 
-/// The hard cases and the suite's procedural scenes, by name.
-fn image_scenes() -> Vec<(String, Scene)> {
+/// The hard cases the loader takes, by file name, sorted (a case whose mesh it refuses, 21:
+/// non-finite positions, has no volume).
+fn hard_case_scenes() -> Vec<(String, Scene)> {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/hard-cases");
     let mut files: Vec<_> = std::fs::read_dir(&dir)
         .expect("tests/hard-cases")
@@ -130,10 +121,15 @@ fn image_scenes() -> Vec<(String, Scene)> {
         .filter(|p| p.extension().is_some_and(|x| x == "toml"))
         .collect();
     files.sort();
-    let mut out: Vec<(String, Scene)> = files
+    files
         .iter()
         .filter_map(|f| Some((f.file_name()?.to_string_lossy().into_owned(), umbra::scene::load_scene_file(f).ok()?)))
-        .collect();
+        .collect()
+}
+
+/// The hard cases and the suite's procedural scenes, by name.
+fn image_scenes() -> Vec<(String, Scene)> {
+    let mut out = hard_case_scenes();
     for name in ["cubes", "cage", "tree", "pins"] {
         out.push((name.into(), umbra::scene::load(name).expect("procedural scene")));
     }
