@@ -76,11 +76,6 @@ impl Bounded {
             }
         }
     }
-
-    /// The pipeline without bounds.
-    pub fn plain(&self) -> &GraphicsPipeline {
-        &self.plain
-    }
 }
 
 /// The forward pipelines.

@@ -52,7 +52,8 @@ pub(crate) fn declare_light<'a>(
         pass.record_mask(cx, &h);
         Ok(())
     });
-    stage.pass(PassId::HybridVolumes(l), &[Use::Image(target, Depth)], move |cx| {
+    let volume_uses = [vec![Use::Image(target, Depth)], h.source.reads()].concat();
+    stage.pass(PassId::HybridVolumes(l), &volume_uses, move |cx| {
         pass.record_volumes(cx, &h);
         Ok(())
     });

@@ -21,6 +21,7 @@
 pub(crate) mod bounds;
 pub(crate) mod cull;
 pub(crate) mod frame;
+pub(crate) mod masked;
 pub(crate) mod pass;
 pub(crate) mod rays;
 mod settings;

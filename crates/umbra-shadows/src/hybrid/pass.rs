@@ -6,6 +6,7 @@
 
 use super::bounds::BoundsPass;
 use super::cull::BOX_VERTICES;
+use super::masked::{with_depth_bounds, MaskedCounting};
 use super::settings::{MaskKind, COUNT_BITS, DEPTH_BOUNDS_EPSILON, SILHOUETTE_BIT};
 use crate::diagnostics::ClassReadback;
 use crate::forward;
@@ -13,16 +14,16 @@ use crate::frame::{PassRecorder, QueryId};
 use crate::gpu_scene::{DrawPush, GpuScene};
 use crate::retired::Retired;
 use crate::shadow_map::{self, ShadowMapSettings};
-use crate::shadow_volume::batches::{counting_in_batch, fold_desc, record_in_batches, CountBits, FULL_STENCIL};
+use crate::shadow_volume::batches::{fold_desc, record_in_batches, CountBits, FULL_STENCIL};
 use crate::shadow_volume::build::LightVolumes;
+use crate::shadow_volume::gpu_frame::{GpuDraws, GpuVolumes, SlotVolumes};
 use crate::shadow_volume::pass::{self as volume_pass, VolumeBindings};
 use crate::visibility::VISIBILITY_FORMAT;
 use crate::RenderResult;
 use umbra_scene::Scene;
 use umbra_vk::{
     vk, Buffer, ColorAttachment, ColorTarget, Context, DepthAttachment, DepthState, DescriptorSet, DescriptorSetLayout,
-    GraphicsPipeline, GraphicsPipelineDesc, Image, ImageDesc, ImageState, PipelineLayout, Recorder, RenderTargets,
-    StencilFace,
+    GraphicsPipeline, GraphicsPipelineDesc, Image, ImageDesc, ImageState, PipelineLayout, RenderTargets, StencilFace,
 };
 
 /// The frame-sized images of the hybrid, reused by every hybrid light of a frame.
@@ -52,14 +53,10 @@ pub(crate) struct HybridPass {
     mask_depth_bounds: GraphicsPipeline,
     mask_stencil: GraphicsPipeline,
     mask_none: GraphicsPipeline,
-    /// Z-fail volumes with the depth-bounds test (`None` without `depthBounds`).
-    volumes_depth_bounds: Option<GraphicsPipeline>,
-    volumes_stencil: GraphicsPipeline,
-    /// The same three counting in a batch's bits ([`count_bits`]; `shadow_volume/batches.rs`),
-    /// and the folds between batches, over the whole stencil and under the silhouette bit.
-    volumes_depth_bounds_batch: Option<GraphicsPipeline>,
-    volumes_stencil_batch: GraphicsPipeline,
-    volumes_none_batch: GraphicsPipeline,
+    /// Step 3's z-fail counting under each mask, alone and in a batch's bits ([`count_bits`];
+    /// `shadow_volume/batches.rs`), and the folds between batches, over the whole stencil and
+    /// under the silhouette bit.
+    volumes: MaskedCounting,
     fold: GraphicsPipeline,
     fold_under_silhouette: GraphicsPipeline,
     /// Step 4, per counting target: silhouette pixels lit where the count (the whole stencil, or
@@ -111,22 +108,6 @@ fn resolve_pipelines(
     Ok([pipeline(true)?, pipeline(false)?])
 }
 
-/// `desc` with the depth-bounds test on, named `name`, where the device has `depthBounds`.
-fn with_depth_bounds<'d>(
-    ctx: &Context,
-    layout: &PipelineLayout,
-    mut desc: GraphicsPipelineDesc<'d>,
-    name: &'d str,
-    depth_bounds: bool,
-) -> RenderResult<Option<GraphicsPipeline>> {
-    if !depth_bounds {
-        return Ok(None);
-    }
-    desc.name = name;
-    desc.depth.bounds_test = true;
-    Ok(Some(GraphicsPipeline::new(ctx, layout, &desc)?))
-}
-
 impl HybridPass {
     /// Builds every pipeline against the renderer's `layout`; `clamp` mirrors the volumes'
     /// `FarPlane::DepthClamp`.
@@ -174,36 +155,17 @@ impl HybridPass {
         let mask_none = GraphicsPipeline::new(ctx, layout, &desc)?;
 
         // Step 3: z-fail volumes, masked.
-        let mut desc = volume_pass::zfail_desc(depth_format, clamp, input);
-        let none_batch = counting_in_batch(&desc, "hybrid volumes (no mask, batch)", FULL_STENCIL);
-        let volumes_none_batch = GraphicsPipeline::new(ctx, layout, &none_batch)?;
-        let volumes_depth_bounds =
-            with_depth_bounds(ctx, layout, desc, "hybrid volumes (depth-bounds mask)", caps.depth_bounds)?;
-        let volumes_depth_bounds_batch =
-            with_depth_bounds(ctx, layout, none_batch, "hybrid volumes (depth-bounds mask, batch)", caps.depth_bounds)?;
+        let volumes = MaskedCounting::new(ctx, layout, depth_format, clamp, caps.depth_bounds, input)?;
         let fold = GraphicsPipeline::new(ctx, layout, &fold_desc("hybrid batch fold", depth_format, FULL_STENCIL))?;
         let fold_under_silhouette = GraphicsPipeline::new(
             ctx,
             layout,
             &fold_desc("hybrid batch fold (under the silhouette bit)", depth_format, UNDER_SILHOUETTE_BIT),
         )?;
-        desc.name = "hybrid volumes (stencil mask)";
-        // Only where the silhouette bit is set; count in the low bits (settings::COUNT_BITS).
-        desc.stencil = desc.stencil.map(|(front, back)| {
-            let masked = |f: StencilFace| StencilFace {
-                compare: vk::CompareOp::EQUAL,
-                compare_mask: SILHOUETTE_BIT,
-                write_mask: COUNT_BITS,
-                ..f
-            };
-            (masked(front), masked(back))
-        });
-        let volumes_stencil = GraphicsPipeline::new(ctx, layout, &desc)?;
-        let stencil_batch = counting_in_batch(&desc, "hybrid volumes (stencil mask, batch)", UNDER_SILHOUETTE_BIT);
-        let volumes_stencil_batch = GraphicsPipeline::new(ctx, layout, &stencil_batch)?;
 
         // Diagnostic fragment counts: the volume draws with only the mask's test. The depth test
         // is on but ALWAYS passes: SwiftShader skips the depth-bounds test while it is off.
+        let mut desc = volume_pass::zfail_desc(depth_format, clamp, input);
         desc.depth = DepthState { test: true, compare: vk::CompareOp::ALWAYS, clamp, ..DepthState::NONE };
         desc.stencil = None;
         let fragments_depth_bounds =
@@ -237,11 +199,7 @@ impl HybridPass {
             mask_depth_bounds,
             mask_stencil,
             mask_none,
-            volumes_depth_bounds,
-            volumes_stencil,
-            volumes_depth_bounds_batch,
-            volumes_stencil_batch,
-            volumes_none_batch,
+            volumes,
             fold,
             fold_under_silhouette,
             resolve,
@@ -370,19 +328,32 @@ impl HybridPass {
         cx.rec.end_rendering();
     }
 
-    /// Step 3: z-fail volumes, where the mask lets them through.
+    /// Step 3: z-fail volumes, where the mask lets them through: the host's vertices, or the
+    /// volumes built on the GPU (`shadow_volume/gpu_frame.rs`).
     pub fn record_volumes<'a>(&'a self, cx: &mut PassRecorder<'_, 'a>, h: &HybridLight<'a>) {
-        let Some(vertices) = h.vertices else { return };
+        if let VolumeSource::Host(None) = h.source {
+            return;
+        }
         let target = self.count_target(h.mask, h.depth);
         cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(DepthAttachment::keep(target)) });
-        let b = VolumeBindings { layout: h.layout, gpu: h.gpu, vertices };
-        b.bind(cx.rec);
-        let (bits, host_clipped) = (count_bits(h.mask), h.volumes.host_clipped);
+        let bits = count_bits(h.mask);
         let fold = if h.mask == MaskKind::Stencil { &self.fold_under_silhouette } else { &self.fold };
-        record_in_batches(cx.rec, cx.log, h.volumes, bits, fold, |rec, log, batch, batched| {
-            self.bind_volumes(rec, h.mask, h.zfail, batched);
-            b.draw_counting(rec, batch.iter(), host_clipped, h.light as u32, log);
-        });
+        match h.source {
+            VolumeSource::Host(Some(vertices)) => {
+                let b = VolumeBindings { layout: h.layout, gpu: h.gpu, vertices };
+                b.bind(cx.rec);
+                let host_clipped = h.volumes.host_clipped;
+                record_in_batches(cx.rec, cx.log, h.volumes, bits, fold, |rec, log, batch, batched| {
+                    self.volumes.bind(rec, h.mask, batched);
+                    b.draw_counting(rec, batch.iter(), host_clipped, h.light as u32, log);
+                });
+            }
+            VolumeSource::Gpu(g, slot) => {
+                let draws = GpuDraws { gpu: h.gpu, slot, volumes: h.volumes, light: h.light as u32 };
+                g.record_hybrid(cx.rec, draws, h.mask, bits, fold, cx.log);
+            }
+            VolumeSource::Host(None) => {}
+        }
         cx.rec.end_rendering();
     }
 
@@ -414,7 +385,8 @@ impl HybridPass {
             MaskKind::Stencil => Some(&self.fragments_stencil),
             MaskKind::None => None,
         };
-        if let (Some(p), Some(vertices)) = (counting, h.vertices) {
+        // Volumes built on the GPU have no overdraw diagnostic (the renderer refuses both).
+        if let (Some(p), VolumeSource::Host(Some(vertices))) = (counting, h.source) {
             cx.rec.bind_pipeline(p);
             match h.mask {
                 MaskKind::DepthBounds => cx.rec.set_depth_bounds(DEPTH_BOUNDS_EPSILON, 1.0),
@@ -434,32 +406,6 @@ impl HybridPass {
         cx.rec.copy_image_to_buffer(classes, 0, &out.classes);
         if let Some(stencil) = &out.stencil {
             cx.rec.copy_stencil_to_buffer(self.count_target(h.mask, h.depth), stencil);
-        }
-    }
-
-    /// Binds the counting pipeline of `mask` and its dynamic state.
-    fn bind_volumes<'a>(
-        &'a self,
-        rec: &mut Recorder<'a>,
-        mask: MaskKind,
-        unmasked: &'a GraphicsPipeline,
-        batched: bool,
-    ) {
-        let depth_bounds = if batched { &self.volumes_depth_bounds_batch } else { &self.volumes_depth_bounds };
-        match (mask, depth_bounds) {
-            (MaskKind::DepthBounds, Some(p)) => {
-                rec.bind_pipeline(p);
-                rec.set_depth_bounds(DEPTH_BOUNDS_EPSILON, 1.0);
-                rec.set_stencil_reference(0);
-            }
-            (MaskKind::Stencil, _) => {
-                rec.bind_pipeline(if batched { &self.volumes_stencil_batch } else { &self.volumes_stencil });
-                rec.set_stencil_reference(SILHOUETTE_BIT);
-            }
-            _ => {
-                rec.bind_pipeline(if batched { &self.volumes_none_batch } else { unmasked });
-                rec.set_stencil_reference(0);
-            }
         }
     }
 }
@@ -491,11 +437,28 @@ pub(crate) struct HybridLight<'a> {
     /// The visibility image and the frame's depth/stencil, as attachments.
     pub visibility: &'a Image,
     pub depth: &'a Image,
-    /// Its z-fail volumes (culled casters already left out) and their vertices.
+    /// Its z-fail volumes (culled casters already left out) and where they are drawn from.
     pub volumes: &'a LightVolumes,
-    pub vertices: Option<&'a Buffer>,
-    /// The unmasked z-fail pipeline (`none`).
-    pub zfail: &'a GraphicsPipeline,
+    pub source: VolumeSource<'a>,
     /// The mask pass's samples.
     pub mask_query: QueryId,
+}
+
+/// Where a hybrid light's volumes are drawn from.
+#[derive(Clone, Copy)]
+pub(crate) enum VolumeSource<'a> {
+    /// Built on the host: the frame's volume vertices (none when the frame has none).
+    Host(Option<&'a Buffer>),
+    /// Built on the GPU (`VolumeBuild::Gpu`): the stages' buffers and the frame slot's set.
+    Gpu(&'a GpuVolumes, &'a SlotVolumes),
+}
+
+impl<'a> VolumeSource<'a> {
+    /// What the counting draws read besides the depth/stencil: the GPU-built volumes' facing,
+    /// lists and indirect draws, as vertex input.
+    pub fn reads(&self) -> Vec<crate::frame::Use<'a>> {
+        let VolumeSource::Gpu(g, _) = self else { return Vec::new() };
+        let read = |b| crate::frame::Use::Buffer(b, umbra_vk::BufferState::VertexRead);
+        g.written().map_or_else(Vec::new, |(facing, list, draws)| vec![read(facing), read(list), read(draws)])
+    }
 }

@@ -12,10 +12,11 @@ use crate::frame::{PassId, QueryId, Stage, Use};
 use crate::gpu_scene::GpuScene;
 use crate::hybrid::cull::CullingPlan;
 use crate::hybrid::frame::{self as hybrid_frame, HybridQueries};
-use crate::hybrid::pass::HybridLight;
+use crate::hybrid::pass::{HybridLight, VolumeSource};
 use crate::hybrid::rays::RaysLight;
 use crate::plan::{tally, CullReason};
 use crate::shadow_volume::build::LightVolumes;
+use crate::shadow_volume::gpu_frame::{GpuVolumes, SlotVolumes};
 use crate::shadow_volume::pass::VolumeBindings;
 use crate::RenderResult;
 use umbra_scene::Scene;
@@ -276,6 +277,13 @@ impl Renderer {
         shadow_set: &'a DescriptorSet,
     ) -> RenderResult<HybridQueries> {
         let l = light.light();
+        let source = match volumes.gpu {
+            Some(_) => {
+                let (g, slot) = self.declare_gpu_stages(stage, f, light, volumes)?;
+                VolumeSource::Gpu(g, slot)
+            }
+            None => VolumeSource::Host(f.volumes),
+        };
         let h = HybridLight {
             light: l,
             mask: self.mask,
@@ -286,8 +294,7 @@ impl Renderer {
             visibility: &self.visibility.light(l)?.image,
             depth: f.depth,
             volumes,
-            vertices: f.volumes,
-            zfail: self.shadow_volume.zfail(),
+            source,
             mask_query: QueryId(0),
         };
         let bounds = self.hybrid.bounds.image(Some(l));
@@ -360,9 +367,9 @@ impl Renderer {
         self.declare_stencil_resolve(stage, f, light)
     }
 
-    /// Shadow volumes built on the GPU (`shadow_volume/gpu_frame.rs`): `volume classify N`,
-    /// `volume silhouettes N`, then `shadow_volume N` drawing from what they wrote and
-    /// `visibility N (stencil)` as on the CPU path.
+    /// Shadow volumes built on the GPU (`shadow_volume/gpu_frame.rs`): the stages, then
+    /// `shadow_volume N` drawing from what they wrote and `visibility N (stencil)` as on the
+    /// CPU path.
     fn declare_gpu_stencil_visibility<'a>(
         &'a self,
         stage: &mut Stage<'a>,
@@ -371,6 +378,31 @@ impl Renderer {
         volumes: &'a LightVolumes,
     ) -> RenderResult<()> {
         let l = light.light();
+        let (g, slot) = self.declare_gpu_stages(stage, f, light, volumes)?;
+        let (bounds, depth) = (light_bounds(light), f.depth);
+        let uses = [vec![Use::Image(depth, Depth)], VolumeSource::Gpu(g, slot).reads()].concat();
+        stage.pass(PassId::ShadowVolume(l), &uses, move |cx| {
+            let stencil = DepthAttachment::clearing_stencil(depth, 0);
+            cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(stencil) });
+            let fold = self.shadow_volume.fold();
+            g.record_stencil(cx.rec, f.gpu, slot, volumes, l as u32, bounds, fold, cx.log);
+            cx.rec.end_rendering();
+            Ok(())
+        });
+        self.declare_stencil_resolve(stage, f, light)
+    }
+
+    /// The GPU's build of a light's volumes: `volume classify N` (the frame's first such light
+    /// also resets every job's draw) and `volume silhouettes N`. Returns the path and the
+    /// frame slot's set its counting draws bind.
+    fn declare_gpu_stages<'a>(
+        &'a self,
+        stage: &mut Stage<'a>,
+        f: FrameInputs<'a>,
+        light: &'a LightFrame,
+        volumes: &'a LightVolumes,
+    ) -> RenderResult<(&'a GpuVolumes, &'a SlotVolumes)> {
+        let l = light.light();
         let missing = |what: &str| crate::RenderError::InvalidInput {
             field: format!("light {l}"),
             why: format!("its GPU-built volumes were declared before {what} was prepared"),
@@ -378,9 +410,8 @@ impl Renderer {
         let g = self.gpu_volumes.as_ref().ok_or_else(|| missing("the GPU path"))?;
         let slot = self.slot.volumes.as_ref().ok_or_else(|| missing("the volumes' set"))?;
         let (facing, list, draws) = g.written().ok_or_else(|| missing("the volumes' buffers"))?;
-        // The frame's first GPU-built light resets every job's draw.
         let reset = f.volume_resets.filter(|_| volumes.gpu.as_ref().is_some_and(|(first, _)| *first == 0));
-        let (storage, read) = (BufferState::ComputeStorage, BufferState::VertexRead);
+        let storage = BufferState::ComputeStorage;
         let mut uses = vec![Use::Buffer(facing, storage)];
         uses.extend(reset.map(|_| Use::Buffer(draws, BufferState::TransferDst)));
         stage.pass(PassId::VolumeClassify(l), &uses, move |cx| {
@@ -392,18 +423,7 @@ impl Renderer {
             g.record_silhouettes(cx.rec, slot, volumes);
             Ok(())
         });
-        let (bounds, depth) = (light_bounds(light), f.depth);
-        let uses =
-            [Use::Image(depth, Depth), Use::Buffer(facing, read), Use::Buffer(list, read), Use::Buffer(draws, read)];
-        stage.pass(PassId::ShadowVolume(l), &uses, move |cx| {
-            let stencil = DepthAttachment::clearing_stencil(depth, 0);
-            cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(stencil) });
-            let fold = self.shadow_volume.fold();
-            g.record_stencil(cx.rec, f.gpu, slot, volumes, l as u32, bounds, fold, cx.log);
-            cx.rec.end_rendering();
-            Ok(())
-        });
-        self.declare_stencil_resolve(stage, f, light)
+        Ok((g, slot))
     }
 
     /// `visibility N (stencil)`: a shadow-volume light's stencil counts resolved into its

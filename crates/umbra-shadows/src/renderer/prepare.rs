@@ -201,9 +201,9 @@ impl Renderer {
         Ok(fitted)
     }
 
-    /// Shadow volumes: every caster's volume per light, built on the CPU (z-fail only for
-    /// hybrid lights, Chan–Durand §3 step 3; none for a hybrid light without a map), or for
-    /// shadow-volume lights with `VolumeBuild::Gpu` named as jobs of the GPU path.
+    /// Shadow volumes: every caster's volume per light (z-fail only for hybrid lights,
+    /// Chan–Durand §3 step 3; none for a hybrid light without a map), built on the CPU, or with
+    /// `VolumeBuild::Gpu` named as jobs of the GPU path.
     pub(super) fn prepare_volumes(
         &mut self,
         scene: &Scene,
@@ -226,7 +226,7 @@ impl Renderer {
             let mode = wanted.mode(self.desc.shadow_volume.mode);
             let source = &scene.lights[plan.light];
             let boxes = &view.boxes;
-            if let (Volumes::Settings, Some(g)) = (wanted, self.gpu_volumes.as_mut()) {
+            if let Some(g) = self.gpu_volumes.as_mut() {
                 g.prepare_arrays(&self.ctx, adjacency, &mut self.slot.retired)?;
                 let (casters, ranges) = (&plan.volume_casters, g.ranges());
                 let v = volumes::jobs_for_light(

@@ -200,7 +200,8 @@ pub(crate) fn jobs_for_light(
         jobs.push(job);
     }
     let batches = std::iter::once(0..out.len()).collect();
-    let gpu = Some((first, jobs[first..].to_vec()));
+    // No job, nothing to build: the light is drawn as one with no volumes.
+    let gpu = (jobs.len() > first).then(|| (first, jobs[first..].to_vec()));
     LightVolumes { casters: out, cpu_ms: started.elapsed().as_secs_f64() * 1e3, host_clipped: false, batches, gpu }
 }
 

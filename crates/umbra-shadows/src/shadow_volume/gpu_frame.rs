@@ -10,12 +10,14 @@
 //! draws live on the GPU only, sized for the largest frame so far; the jobs and the draws'
 //! initial values are the frame slot's, written by the host each frame (`Streams`).
 
-use super::batches::{record_in_batches, FULL_STENCIL};
+use super::batches::{record_in_batches, CountBits, FULL_STENCIL};
 use super::build::{Counting, LightVolumes};
 use super::gpu::{AdjacencyArrays, GpuSilhouettes, MeshRange};
 use super::pass::{Counting4, VolumeInput};
 use crate::forward::PassBounds;
 use crate::gpu_scene::GpuScene;
+use crate::hybrid::masked::MaskedCounting;
+use crate::hybrid::MaskKind;
 use crate::retired::Retired;
 use crate::timing::PassLog;
 use crate::RenderResult;
@@ -62,6 +64,8 @@ pub(crate) struct GpuVolumes {
     layout: PipelineLayout,
     sides: Counting4,
     caps: Counting4,
+    /// A hybrid light's step 3 (`hybrid::masked`): its sides and its caps.
+    hybrid: [MaskedCounting; 2],
     arrays: Option<Arrays>,
     written: Option<Written>,
     /// Counts new arrays or written buffers (a slot's set over older ones is made again).
@@ -83,7 +87,11 @@ impl GpuVolumes {
             PipelineLayout::new(ctx, "gpu shadow volume draws", &[scene_set_layout, stages.set_layout()], push)?;
         let sides = Counting4::new(ctx, &layout, depth_format, clamp, depth_bounds, VolumeInput::GpuSides)?;
         let caps = Counting4::new(ctx, &layout, depth_format, clamp, depth_bounds, VolumeInput::GpuCaps)?;
-        Ok(Self { stages, layout, sides, caps, arrays: None, written: None, generation: 0 })
+        // The hybrid's mask needs the test wherever the device has it (not only for bounds).
+        let has_bounds = ctx.capabilities().depth_bounds;
+        let masked = |input| MaskedCounting::new(ctx, &layout, depth_format, clamp, has_bounds, input);
+        let hybrid = [masked(VolumeInput::GpuSides)?, masked(VolumeInput::GpuCaps)?];
+        Ok(Self { stages, layout, sides, caps, hybrid, arrays: None, written: None, generation: 0 })
     }
 
     /// Every mesh's place in the arrays (after [`Self::prepare`]).
@@ -220,25 +228,64 @@ impl GpuVolumes {
         fold: &'a GraphicsPipeline,
         log: &mut PassLog,
     ) {
+        let draws = GpuDraws { gpu, slot, volumes, light };
+        self.record_counting(rec, draws, FULL_STENCIL, fold, log, |rec, counting, batched, caps| {
+            let pipelines = if caps { &self.caps } else { &self.sides };
+            pipelines.pick(counting, batched).bind(rec, bounds);
+            rec.set_stencil_reference(0);
+        });
+    }
+
+    /// A hybrid light's step 3 (Chan–Durand §4, inside its `hybrid volumes` pass): its z-fail
+    /// casters' sides and caps where the computation mask `mask` lets them through, counted in
+    /// `bits` with `fold` between batches.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_hybrid<'a>(
+        &'a self,
+        rec: &mut Recorder<'a>,
+        draws: GpuDraws<'a, '_>,
+        mask: MaskKind,
+        bits: CountBits,
+        fold: &'a GraphicsPipeline,
+        log: &mut PassLog,
+    ) {
+        let [sides, caps] = &self.hybrid;
+        self.record_counting(rec, draws, bits, fold, log, |rec, _, batched, is_caps| {
+            (if is_caps { caps } else { sides }).bind(rec, mask, batched);
+        });
+    }
+
+    /// Per batch of `draws`' casters, z-fail casters' sides and caps, then z-pass casters'
+    /// sides, each part's pipeline and dynamic state bound by `bind(rec, counting, batched,
+    /// caps)`.
+    fn record_counting<'a>(
+        &'a self,
+        rec: &mut Recorder<'a>,
+        draws: GpuDraws<'a, '_>,
+        bits: CountBits,
+        fold: &'a GraphicsPipeline,
+        log: &mut PassLog,
+        bind: impl Fn(&mut Recorder<'a>, Counting, bool, bool),
+    ) {
+        let GpuDraws { gpu, slot, volumes, light } = draws;
         let (Some(w), Some((first, jobs))) = (&self.written, &volumes.gpu) else { return };
-        record_in_batches(rec, log, volumes, FULL_STENCIL, fold, |rec, log, batch, batched| {
+        record_in_batches(rec, log, volumes, bits, fold, |rec, log, batch, batched| {
             for counting in [Counting::ZFail, Counting::ZPass] {
-                let casters: Vec<_> = batch.iter().filter(|c| c.counting == counting).collect();
-                if casters.is_empty() {
+                let casters = batch.iter().filter(|c| c.counting == counting);
+                if casters.clone().next().is_none() {
                     continue;
                 }
                 // Sides, then (z-fail) caps, each with its pipeline; the sets after the
                 // pipeline, as the fold between batches binds another layout.
-                let parts: &[(&Counting4, bool)] = match counting {
-                    Counting::ZFail => &[(&self.sides, false), (&self.caps, true)],
-                    Counting::ZPass => &[(&self.sides, false)],
+                let parts: &[bool] = match counting {
+                    Counting::ZFail => &[false, true],
+                    Counting::ZPass => &[false],
                 };
-                for &(pipelines, caps) in parts {
-                    pipelines.pick(counting, batched).bind(rec, bounds);
+                for &caps in parts {
+                    bind(rec, counting, batched, caps);
                     rec.bind_descriptor_set(&self.layout, 0, &gpu.frame.set);
                     rec.bind_descriptor_set(&self.layout, 1, &slot.set);
-                    rec.set_stencil_reference(0);
-                    for c in &casters {
+                    for c in casters.clone() {
                         let Some(job) = c.job else { continue };
                         rec.push_constants(&self.layout, &JobPush { object: c.object as u32, view: light, job });
                         match (caps, jobs.get((job as usize).wrapping_sub(*first))) {
@@ -254,4 +301,14 @@ impl GpuVolumes {
             }
         });
     }
+}
+
+/// What one light's GPU-built volume draws read: the scene, the slot's set over the stages'
+/// buffers, the light's volumes (jobs named) and its index.
+#[derive(Clone, Copy)]
+pub(crate) struct GpuDraws<'a, 'v> {
+    pub gpu: &'a GpuScene,
+    pub slot: &'a SlotVolumes,
+    pub volumes: &'v LightVolumes,
+    pub light: u32,
 }

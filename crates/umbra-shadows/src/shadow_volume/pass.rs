@@ -290,11 +290,6 @@ impl ShadowVolumePass {
         &self.fold
     }
 
-    /// The z-fail counting pipeline, unmasked.
-    pub fn zfail(&self) -> &GraphicsPipeline {
-        self.counting.zfail.plain()
-    }
-
     /// Records the overdraw image's draws for light `light` (inside a rendering pass over the
     /// overdraw target), when built with `overdraw`.
     pub fn record_overdraw<'a>(

@@ -93,9 +93,9 @@ pub enum VolumeBuild {
     /// In compute (`gpu.rs`): each mesh's adjacency uploaded once, then per caster and light
     /// the triangles' facing and the silhouette edges found on the GPU and the volume drawn
     /// from them indirectly; the host only names the casters. The same volumes as the CPU's
-    /// (`tests/gpu_volumes.rs`). For `shadow_volume` lights (hybrid lights keep the CPU
-    /// path for now); needs a graphics queue that runs compute, and refuses host clipping and
-    /// the overdraw diagnostic, which only the CPU path has.
+    /// (`tests/gpu_volumes.rs`). For `shadow_volume` lights and the hybrid's z-fail volumes
+    /// (drawn behind its computation mask); needs a graphics queue that runs compute, and
+    /// refuses host clipping and the overdraw diagnostic, which only the CPU path has.
     Gpu,
 }
 

@@ -1,0 +1,143 @@
+//! Step 3's counting pipelines (Chan–Durand §4): the z-fail volumes drawn only where the
+//! computation mask lets them through, for one volume input (the host's vertices, or a
+//! GPU-built volume's sides or caps, `shadow_volume/gpu_frame.rs`).
+
+use super::pass::count_bits;
+use super::settings::{MaskKind, COUNT_BITS, DEPTH_BOUNDS_EPSILON, SILHOUETTE_BIT};
+use crate::shadow_volume::batches::{counting_in_batch, FULL_STENCIL};
+use crate::shadow_volume::pass::{self as volume_pass, VolumeInput};
+use crate::RenderResult;
+use umbra_vk::{vk, Context, GraphicsPipeline, GraphicsPipelineDesc, PipelineLayout, Recorder, StencilFace};
+
+/// The debug names of one input's six pipelines.
+struct Names {
+    none: &'static str,
+    none_batch: &'static str,
+    depth_bounds: &'static str,
+    depth_bounds_batch: &'static str,
+    stencil: &'static str,
+    stencil_batch: &'static str,
+}
+
+/// The names of `input`'s pipelines.
+fn names(input: VolumeInput) -> Names {
+    match input {
+        VolumeInput::GpuSides => Names {
+            none: "hybrid volume sides (no mask)",
+            none_batch: "hybrid volume sides (no mask, batch)",
+            depth_bounds: "hybrid volume sides (depth-bounds mask)",
+            depth_bounds_batch: "hybrid volume sides (depth-bounds mask, batch)",
+            stencil: "hybrid volume sides (stencil mask)",
+            stencil_batch: "hybrid volume sides (stencil mask, batch)",
+        },
+        VolumeInput::GpuCaps => Names {
+            none: "hybrid volume caps (no mask)",
+            none_batch: "hybrid volume caps (no mask, batch)",
+            depth_bounds: "hybrid volume caps (depth-bounds mask)",
+            depth_bounds_batch: "hybrid volume caps (depth-bounds mask, batch)",
+            stencil: "hybrid volume caps (stencil mask)",
+            stencil_batch: "hybrid volume caps (stencil mask, batch)",
+        },
+        VolumeInput::Built | VolumeInput::HostClipped => Names {
+            none: "hybrid volumes (no mask)",
+            none_batch: "hybrid volumes (no mask, batch)",
+            depth_bounds: "hybrid volumes (depth-bounds mask)",
+            depth_bounds_batch: "hybrid volumes (depth-bounds mask, batch)",
+            stencil: "hybrid volumes (stencil mask)",
+            stencil_batch: "hybrid volumes (stencil mask, batch)",
+        },
+    }
+}
+
+/// `desc` with the depth-bounds test on, named `name`, where the device has `depthBounds`.
+pub(super) fn with_depth_bounds<'d>(
+    ctx: &Context,
+    layout: &PipelineLayout,
+    mut desc: GraphicsPipelineDesc<'d>,
+    name: &'d str,
+    depth_bounds: bool,
+) -> RenderResult<Option<GraphicsPipeline>> {
+    if !depth_bounds {
+        return Ok(None);
+    }
+    desc.name = name;
+    desc.depth.bounds_test = true;
+    Ok(Some(GraphicsPipeline::new(ctx, layout, &desc)?))
+}
+
+/// The z-fail counting desc of `input` counting only where the silhouette bit is set, in the
+/// count bits (`settings::COUNT_BITS`).
+fn stencil_masked(mut desc: GraphicsPipelineDesc<'static>, name: &'static str) -> GraphicsPipelineDesc<'static> {
+    desc.name = name;
+    desc.stencil = desc.stencil.map(|(front, back)| {
+        let masked = |f: StencilFace| StencilFace {
+            compare: vk::CompareOp::EQUAL,
+            compare_mask: SILHOUETTE_BIT,
+            write_mask: COUNT_BITS,
+            ..f
+        };
+        (masked(front), masked(back))
+    });
+    desc
+}
+
+/// Step 3's z-fail counting of one volume input under each computation mask, alone and in a
+/// batch's bits (`hybrid::pass::count_bits`; `shadow_volume/batches.rs`).
+pub(crate) struct MaskedCounting {
+    none: GraphicsPipeline,
+    none_batch: GraphicsPipeline,
+    /// With the depth-bounds test (`None` without `depthBounds`).
+    depth_bounds: Option<GraphicsPipeline>,
+    depth_bounds_batch: Option<GraphicsPipeline>,
+    stencil: GraphicsPipeline,
+    stencil_batch: GraphicsPipeline,
+}
+
+impl MaskedCounting {
+    /// The pipelines reading `input` against `layout`; `clamp` mirrors the volumes'
+    /// `FarPlane::DepthClamp`, `depth_bounds` the device's `depthBounds`.
+    pub fn new(
+        ctx: &Context,
+        layout: &PipelineLayout,
+        depth_format: vk::Format,
+        clamp: bool,
+        depth_bounds: bool,
+        input: VolumeInput,
+    ) -> RenderResult<Self> {
+        let n = names(input);
+        let mut desc = volume_pass::zfail_desc(depth_format, clamp, input);
+        desc.name = n.none;
+        let none = GraphicsPipeline::new(ctx, layout, &desc)?;
+        let none_batch_desc = counting_in_batch(&desc, n.none_batch, FULL_STENCIL);
+        let none_batch = GraphicsPipeline::new(ctx, layout, &none_batch_desc)?;
+        let with_bounds = |d, name| with_depth_bounds(ctx, layout, d, name, depth_bounds);
+        let depth_bounds_plain = with_bounds(desc, n.depth_bounds)?;
+        let depth_bounds_batch = with_bounds(none_batch_desc, n.depth_bounds_batch)?;
+        let desc = stencil_masked(desc, n.stencil);
+        let stencil = GraphicsPipeline::new(ctx, layout, &desc)?;
+        let batch = counting_in_batch(&desc, n.stencil_batch, count_bits(MaskKind::Stencil));
+        let stencil_batch = GraphicsPipeline::new(ctx, layout, &batch)?;
+        Ok(Self { none, none_batch, depth_bounds: depth_bounds_plain, depth_bounds_batch, stencil, stencil_batch })
+    }
+
+    /// Binds the counting pipeline of `mask` (in a batch's bits when `batched`) and its dynamic
+    /// state: the depth bounds `[DEPTH_BOUNDS_EPSILON, 1]` or the silhouette bit as reference.
+    pub fn bind<'a>(&'a self, rec: &mut Recorder<'a>, mask: MaskKind, batched: bool) {
+        let depth_bounds = if batched { &self.depth_bounds_batch } else { &self.depth_bounds };
+        match (mask, depth_bounds) {
+            (MaskKind::DepthBounds, Some(p)) => {
+                rec.bind_pipeline(p);
+                rec.set_depth_bounds(DEPTH_BOUNDS_EPSILON, 1.0);
+                rec.set_stencil_reference(0);
+            }
+            (MaskKind::Stencil, _) => {
+                rec.bind_pipeline(if batched { &self.stencil_batch } else { &self.stencil });
+                rec.set_stencil_reference(SILHOUETTE_BIT);
+            }
+            _ => {
+                rec.bind_pipeline(if batched { &self.none_batch } else { &self.none });
+                rec.set_stencil_reference(0);
+            }
+        }
+    }
+}
