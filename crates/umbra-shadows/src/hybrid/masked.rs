@@ -9,43 +9,12 @@ use crate::shadow_volume::pass::{self as volume_pass, VolumeInput};
 use crate::RenderResult;
 use umbra_vk::{vk, Context, GraphicsPipeline, GraphicsPipelineDesc, PipelineLayout, Recorder, StencilFace};
 
-/// The debug names of one input's six pipelines.
-struct Names {
-    none: &'static str,
-    none_batch: &'static str,
-    depth_bounds: &'static str,
-    depth_bounds_batch: &'static str,
-    stencil: &'static str,
-    stencil_batch: &'static str,
-}
-
-/// The names of `input`'s pipelines.
-fn names(input: VolumeInput) -> Names {
+/// The debug name prefix of `input`'s pipelines.
+fn prefix(input: VolumeInput) -> &'static str {
     match input {
-        VolumeInput::GpuSides => Names {
-            none: "hybrid volume sides (no mask)",
-            none_batch: "hybrid volume sides (no mask, batch)",
-            depth_bounds: "hybrid volume sides (depth-bounds mask)",
-            depth_bounds_batch: "hybrid volume sides (depth-bounds mask, batch)",
-            stencil: "hybrid volume sides (stencil mask)",
-            stencil_batch: "hybrid volume sides (stencil mask, batch)",
-        },
-        VolumeInput::GpuCaps => Names {
-            none: "hybrid volume caps (no mask)",
-            none_batch: "hybrid volume caps (no mask, batch)",
-            depth_bounds: "hybrid volume caps (depth-bounds mask)",
-            depth_bounds_batch: "hybrid volume caps (depth-bounds mask, batch)",
-            stencil: "hybrid volume caps (stencil mask)",
-            stencil_batch: "hybrid volume caps (stencil mask, batch)",
-        },
-        VolumeInput::Built | VolumeInput::HostClipped => Names {
-            none: "hybrid volumes (no mask)",
-            none_batch: "hybrid volumes (no mask, batch)",
-            depth_bounds: "hybrid volumes (depth-bounds mask)",
-            depth_bounds_batch: "hybrid volumes (depth-bounds mask, batch)",
-            stencil: "hybrid volumes (stencil mask)",
-            stencil_batch: "hybrid volumes (stencil mask, batch)",
-        },
+        VolumeInput::GpuSides => "hybrid volume sides",
+        VolumeInput::GpuCaps => "hybrid volume caps",
+        VolumeInput::Built | VolumeInput::HostClipped => "hybrid volumes",
     }
 }
 
@@ -67,7 +36,7 @@ pub(super) fn with_depth_bounds<'d>(
 
 /// The z-fail counting desc of `input` counting only where the silhouette bit is set, in the
 /// count bits (`settings::COUNT_BITS`).
-fn stencil_masked(mut desc: GraphicsPipelineDesc<'static>, name: &'static str) -> GraphicsPipelineDesc<'static> {
+fn stencil_masked<'d>(mut desc: GraphicsPipelineDesc<'d>, name: &'d str) -> GraphicsPipelineDesc<'d> {
     desc.name = name;
     desc.stencil = desc.stencil.map(|(front, back)| {
         let masked = |f: StencilFace| StencilFace {
@@ -104,18 +73,27 @@ impl MaskedCounting {
         depth_bounds: bool,
         input: VolumeInput,
     ) -> RenderResult<Self> {
-        let n = names(input);
+        let name = |what: &str| format!("{} ({what})", prefix(input));
+        let [n_none, n_none_batch, n_bounds, n_bounds_batch, n_stencil, n_stencil_batch] = [
+            "no mask",
+            "no mask, batch",
+            "depth-bounds mask",
+            "depth-bounds mask, batch",
+            "stencil mask",
+            "stencil mask, batch",
+        ]
+        .map(name);
         let mut desc = volume_pass::zfail_desc(depth_format, clamp, input);
-        desc.name = n.none;
+        desc.name = &n_none;
         let none = GraphicsPipeline::new(ctx, layout, &desc)?;
-        let none_batch_desc = counting_in_batch(&desc, n.none_batch, FULL_STENCIL);
+        let none_batch_desc = counting_in_batch(&desc, &n_none_batch, FULL_STENCIL);
         let none_batch = GraphicsPipeline::new(ctx, layout, &none_batch_desc)?;
         let with_bounds = |d, name| with_depth_bounds(ctx, layout, d, name, depth_bounds);
-        let depth_bounds_plain = with_bounds(desc, n.depth_bounds)?;
-        let depth_bounds_batch = with_bounds(none_batch_desc, n.depth_bounds_batch)?;
-        let desc = stencil_masked(desc, n.stencil);
+        let depth_bounds_plain = with_bounds(desc, &n_bounds)?;
+        let depth_bounds_batch = with_bounds(none_batch_desc, &n_bounds_batch)?;
+        let desc = stencil_masked(desc, &n_stencil);
         let stencil = GraphicsPipeline::new(ctx, layout, &desc)?;
-        let batch = counting_in_batch(&desc, n.stencil_batch, count_bits(MaskKind::Stencil));
+        let batch = counting_in_batch(&desc, &n_stencil_batch, count_bits(MaskKind::Stencil));
         let stencil_batch = GraphicsPipeline::new(ctx, layout, &batch)?;
         Ok(Self { none, none_batch, depth_bounds: depth_bounds_plain, depth_bounds_batch, stencil, stencil_batch })
     }

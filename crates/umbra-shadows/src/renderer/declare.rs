@@ -18,6 +18,7 @@ use crate::plan::{tally, CullReason};
 use crate::shadow_volume::build::LightVolumes;
 use crate::shadow_volume::gpu_frame::{GpuVolumes, SlotVolumes};
 use crate::shadow_volume::pass::VolumeBindings;
+use crate::timing::PassLog;
 use crate::RenderResult;
 use umbra_scene::Scene;
 use umbra_vk::{
@@ -355,16 +356,11 @@ impl Renderer {
         volumes: &'a LightVolumes,
         vertices: &'a Buffer,
     ) -> RenderResult<()> {
-        let (l, bounds, depth) = (light.light(), light_bounds(light), f.depth);
-        stage.pass(PassId::ShadowVolume(l), &[Use::Image(depth, Depth)], move |cx| {
-            let stencil = DepthAttachment::clearing_stencil(depth, 0);
-            cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(stencil) });
+        let (l, bounds) = (light.light(), light_bounds(light));
+        self.declare_stencil_counts(stage, f, light, Vec::new(), move |rec, log| {
             let b = VolumeBindings { layout: &self.layout, gpu: f.gpu, vertices };
-            self.shadow_volume.record_stencil(cx.rec, b, volumes, l as u32, bounds, cx.log);
-            cx.rec.end_rendering();
-            Ok(())
-        });
-        self.declare_stencil_resolve(stage, f, light)
+            self.shadow_volume.record_stencil(rec, b, volumes, l as u32, bounds, log);
+        })
     }
 
     /// Shadow volumes built on the GPU (`shadow_volume/gpu_frame.rs`): the stages, then
@@ -377,15 +373,32 @@ impl Renderer {
         light: &'a LightFrame,
         volumes: &'a LightVolumes,
     ) -> RenderResult<()> {
-        let l = light.light();
+        let (l, bounds) = (light.light(), light_bounds(light));
         let (g, slot) = self.declare_gpu_stages(stage, f, light, volumes)?;
-        let (bounds, depth) = (light_bounds(light), f.depth);
-        let uses = [vec![Use::Image(depth, Depth)], VolumeSource::Gpu(g, slot).reads()].concat();
-        stage.pass(PassId::ShadowVolume(l), &uses, move |cx| {
+        let reads = VolumeSource::Gpu(g, slot).reads();
+        self.declare_stencil_counts(stage, f, light, reads, move |rec, log| {
+            let fold = self.shadow_volume.fold();
+            g.record_stencil(rec, f.gpu, slot, volumes, l as u32, bounds, fold, log);
+        })
+    }
+
+    /// `shadow_volume N`, the stencil counts (`draw` inside a rendering pass over the frame's
+    /// depth with the stencil cleared; `reads`: what the draws read besides it), then
+    /// `visibility N (stencil)`.
+    fn declare_stencil_counts<'a>(
+        &'a self,
+        stage: &mut Stage<'a>,
+        f: FrameInputs<'a>,
+        light: &'a LightFrame,
+        reads: Vec<Use<'a>>,
+        draw: impl FnOnce(&mut Recorder<'a>, &mut PassLog) + 'a,
+    ) -> RenderResult<()> {
+        let depth = f.depth;
+        let uses = [vec![Use::Image(depth, Depth)], reads].concat();
+        stage.pass(PassId::ShadowVolume(light.light()), &uses, move |cx| {
             let stencil = DepthAttachment::clearing_stencil(depth, 0);
             cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(stencil) });
-            let fold = self.shadow_volume.fold();
-            g.record_stencil(cx.rec, f.gpu, slot, volumes, l as u32, bounds, fold, cx.log);
+            draw(cx.rec, cx.log);
             cx.rec.end_rendering();
             Ok(())
         });
