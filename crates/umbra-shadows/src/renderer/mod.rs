@@ -74,6 +74,8 @@ pub struct Renderer {
     /// The scene's meshes as last validated and measured, by revision (checked every frame,
     /// read again only when one changed).
     pub(crate) checked: CheckedMeshes,
+    /// Each light's receiver grid samples, kept while their inputs do not change.
+    grid_samples: crate::shadow_map::samples::GridSamples,
     /// The visibility image every shadowed light's technique writes and its lighting reads.
     visibility: VisibilityPass,
     /// How volume vertices reach the GPU: as built, or clipped to the view on the host.
@@ -227,6 +229,7 @@ impl Renderer {
             hybrid_rays,
             ray_stats,
             checked: CheckedMeshes::default(),
+            grid_samples: Default::default(),
             visibility,
             volume_input,
             gpu_volumes,

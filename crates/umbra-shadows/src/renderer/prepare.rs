@@ -107,7 +107,7 @@ impl Renderer {
                 far: views.far,
                 casters: views.casters.len(),
                 texel_size: (source.position.w == 0.0).then(|| frustum::texel_size(views.views[0], resolution)),
-                receiver_texel_size: frustum::receiver_texel_size(&views.views, &views.receivers, resolution, seen),
+                receiver_texel_size: self.grid_samples.receiver_texel_size(l, views, resolution, seen),
                 view_proj: views.views.clone(),
             });
             if map.silhouette {
@@ -140,7 +140,7 @@ impl Renderer {
     /// Every map-using light's views and map size, checked against the device, and what they
     /// take together against the budget; nothing is allocated here.
     fn fit_maps(
-        &self,
+        &mut self,
         scene: &Scene,
         view: &FrameView,
         lights: &mut [LightFrame],
@@ -176,7 +176,7 @@ impl Renderer {
                 Some(MapSize::Settings) | None => settings.resolution,
             };
             let resolution = source.shadow_map_size.or(set).unwrap_or_else(|| {
-                frustum::resolution_from_frame(&views, view.seen(self.desc.height), self.desc.width)
+                self.grid_samples.resolution_from_frame(plan.light, &views, view.seen(self.desc.height), self.desc.width)
             });
             let map_bytes = self.shadow_map.check(&self.ctx, plan.light, resolution, views.kind)?;
             // The hybrid's depth bounds: two layers per face of the map's D32 depth; its depth

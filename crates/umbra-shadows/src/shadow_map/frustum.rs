@@ -406,10 +406,12 @@ pub(crate) fn texel_pixel_ratio(views: &LightViews, resolution: u32, seen: Seen<
 /// ([`ShadowMapSettings::resolution_from_frame`](crate::ShadowMapSettings::resolution_from_frame)),
 /// from the ratio at a reference size (texels shrink in proportion to the size).
 pub(crate) fn resolution_from_frame(views: &LightViews, seen: Seen<'_>, width: u32) -> u32 {
-    const REFERENCE: u32 = 1024;
-    let ratio = texel_pixel_ratio(views, REFERENCE, seen);
-    crate::ShadowMapSettings::resolution_from_frame(ratio, REFERENCE, width, seen.height)
+    let ratio = texel_pixel_ratio(views, REFERENCE_RESOLUTION, seen);
+    crate::ShadowMapSettings::resolution_from_frame(ratio, REFERENCE_RESOLUTION, width, seen.height)
 }
+
+/// The map size [`resolution_from_frame`] measures the texel-to-pixel ratio at.
+pub(crate) const REFERENCE_RESOLUTION: u32 = 1024;
 
 /// The least and the largest [`texel_at`] at the grid points of `receivers` that `seen` sees,
 /// or `None` when no such point lies in a view.

@@ -13,6 +13,7 @@
 
 pub(crate) mod frustum;
 pub(crate) mod pass;
+pub(crate) mod samples;
 mod settings;
 
 pub use settings::{DepthBias, ShadowFilter, ShadowMapSettings};
