@@ -213,7 +213,11 @@ fn scene(name: &str, technique: Technique) -> Scene {
 
 /// umbra's own renderer's visibility images of `scene`: each shadowed light's texels as bits.
 fn renderer_bits(ctx: &Context, scene: &Scene) -> Vec<(usize, Vec<u32>)> {
-    let mut desc = RendererDesc::new(W, H);
+    renderer_bits_with(ctx, scene, RendererDesc::new(W, H))
+}
+
+/// [`renderer_bits`] with the settings of `desc`.
+fn renderer_bits_with(ctx: &Context, scene: &Scene, mut desc: RendererDesc) -> Vec<(usize, Vec<u32>)> {
     desc.read_visibility = true;
     let own = Renderer::new(ctx, desc).unwrap().render(scene).unwrap();
     let bits = |image: &umbra::shadows::VisibilityImage| {
@@ -333,6 +337,19 @@ fn a_mesh_added_between_frames_is_uploaded_inside_the_engines_frame() {
     });
 }
 
+/// The position and normal streams of 32-byte vertices in `v`: a float, the position, the
+/// normal, a float.
+fn interleaved_streams(v: &Buffer) -> (VertexStream, VertexStream) {
+    let stream = |offset| VertexStream {
+        buffer: v.raw,
+        buffer_size: v.desc.size,
+        offset,
+        stride: 32,
+        format: vk::Format::R32G32B32_SFLOAT,
+    };
+    (stream(4), stream(16))
+}
+
 /// `mesh` in buffers laid out the way an engine might keep it: vertices interleaved 32 bytes
 /// apart (a float, the position, the normal, a float), 16-bit indices where they fit unless
 /// `wide`, else 32-bit, 16 bytes into their buffer.
@@ -349,16 +366,10 @@ fn engine_mesh(ctx: &Context, mesh: &umbra::scene::Mesh, wide: bool) -> (Buffer,
     let usage = vk::BufferUsageFlags::VERTEX_BUFFER;
     let v = Buffer::with_data(ctx, "engine mesh vertices", usage, bytemuck::cast_slice(&vertices)).unwrap();
     let i = Buffer::with_data(ctx, "engine mesh indices", vk::BufferUsageFlags::INDEX_BUFFER, &indices).unwrap();
-    let stream = |offset| VertexStream {
-        buffer: v.raw,
-        buffer_size: v.desc.size,
-        offset,
-        stride: 32,
-        format: vk::Format::R32G32B32_SFLOAT,
-    };
+    let (positions, normals) = interleaved_streams(&v);
     let buffers = MeshBuffers {
-        positions: stream(4),
-        normals: stream(16),
+        positions,
+        normals,
         vertex_count: mesh.positions.len() as u32,
         indices: IndexStream {
             buffer: i.raw,
@@ -370,6 +381,14 @@ fn engine_mesh(ctx: &Context, mesh: &umbra::scene::Mesh, wide: bool) -> (Buffer,
         bounds: mesh.bounds(),
     };
     (v, i, buffers)
+}
+
+/// The error of a frame `shadows` must refuse (nothing recorded), printed.
+fn refused_record(ctx: &Context, engine: &Engine, shadows: &mut Shadows, scene: &Scene) -> String {
+    let rec = ctx.begin_commands("refused frame").unwrap();
+    let err = shadows.record(rec.raw(), &inputs(engine, scene, 99)).map(|_| ()).unwrap_err().to_string();
+    println!("{err}");
+    err
 }
 
 #[test]
@@ -401,11 +420,8 @@ fn meshes_in_the_engines_own_buffers_give_the_same_shadow_maps() {
         assert_eq!(differing(&again, &own), 0, "second frame");
         // A light that builds volumes on the CPU cannot use them: a typed error naming it.
         scene.lights[0].technique = Technique::ShadowVolume;
-        let rec = ctx.begin_commands("refused frame").unwrap();
-        let err = shadows.record(rec.raw(), &inputs(&engine, &scene, 2)).map(|_| ()).unwrap_err().to_string();
-        println!("{err}");
+        let err = refused_record(ctx, &engine, &mut shadows, &scene);
         assert!(err.starts_with("FrameInputs::lights[0].technique: ShadowVolume builds shadows"), "{err}");
-        drop(rec);
         drop(shadows);
         drop(buffers);
     });
@@ -600,4 +616,174 @@ fn the_example_engine_shades_with_umbras_shadows_without_umbra_submitting() {
     );
     assert!(darker > with.len() / 4 / 50, "shadows darken at least 2% of the frame");
     assert_eq!(brighter, 0, "a shadow made a pixel brighter");
+}
+
+/// The deforming-mesh scene at rest: a floor, a sphere and a box (whose faces have vertices of
+/// their own, welded at its corners) under one shadow-volume point light.
+fn deforming_rest() -> Scene {
+    use umbra::scene::{primitives, Camera, Light};
+    let mut s = Scene::new("deforming");
+    let floor = s.add_mesh(primitives::cuboid(Vec3::new(4.0, 0.05, 4.0)));
+    s.add_object(floor, Mat4::from_translation(Vec3::new(0.0, -0.05, 0.0)), Vec3::splat(0.8));
+    let sphere = primitives::displaced_sphere(0.7, 32, 20, |_, _| 1.0);
+    let sphere = s.add_mesh(deformed_mesh(&sphere, |p| p));
+    s.add_object(sphere, Mat4::from_translation(Vec3::new(-0.9, 1.3, 0.0)), Vec3::new(0.8, 0.6, 0.4));
+    let bar = s.add_mesh(deformed_mesh(&primitives::cuboid(Vec3::new(0.3, 0.8, 0.3)), |p| p));
+    s.add_object(bar, Mat4::from_translation(Vec3::new(1.0, 0.9, 0.4)), Vec3::new(0.4, 0.6, 0.8));
+    s.lights.push(Light::point(Vec3::new(1.5, 5.0, 2.0), 30.0));
+    s.lights[0].technique = Technique::ShadowVolume;
+    s.camera = Camera::look_at(Vec3::new(-2.5, 4.0, 5.5), Vec3::new(0.0, 0.6, 0.0));
+    s.camera.far = None;
+    s
+}
+
+/// `mesh` with every position moved by `f` (a function of the rest position, so vertices
+/// welded at rest stay together) and smooth normals of the new pose.
+fn deformed_mesh(mesh: &umbra::scene::Mesh, f: impl Fn(Vec3) -> Vec3) -> umbra::scene::Mesh {
+    let positions = mesh.positions.iter().map(|&p| f(p)).collect();
+    umbra::scene::Mesh::with_smooth_normals(mesh.name.clone(), positions, mesh.indices.clone()).unwrap()
+}
+
+/// The pose at `time`: a wave through the sphere, a twist through the box.
+fn deforming_pose(rest: &Scene, time: f32) -> Scene {
+    let mut s = rest.clone();
+    s.meshes[1] = deformed_mesh(&rest.meshes[1], |p| p * (1.0 + 0.2 * (6.0 * p.y + 2.0 * time).sin()));
+    s.meshes[2] = deformed_mesh(&rest.meshes[2], |p| glam::Mat3::from_rotation_y(0.9 * time.sin() * p.y) * p);
+    s
+}
+
+/// A deforming mesh's buffers: positions and normals interleaved 32 bytes apart, 4 bytes in
+/// (as `engine_mesh`), in memory the test writes each pose into, with bounds holding every pose.
+fn deforming_buffers(
+    ctx: &Context,
+    mesh: &umbra::scene::Mesh,
+    bounds: umbra::scene::Aabb,
+) -> (Buffer, Buffer, MeshBuffers) {
+    let usage = vk::BufferUsageFlags::VERTEX_BUFFER | vk::BufferUsageFlags::STORAGE_BUFFER;
+    let v =
+        Buffer::new(ctx, "engine deforming vertices", BufferDesc::cpu_to_gpu(32 * mesh.positions.len() as u64, usage))
+            .unwrap();
+    let i = Buffer::with_data(
+        ctx,
+        "engine deforming indices",
+        vk::BufferUsageFlags::INDEX_BUFFER,
+        bytemuck::cast_slice(&mesh.indices),
+    )
+    .unwrap();
+    let (positions, normals) = interleaved_streams(&v);
+    let indices = IndexStream {
+        buffer: i.raw,
+        buffer_size: i.desc.size,
+        offset: 0,
+        index_type: vk::IndexType::UINT32,
+        count: mesh.indices.len() as u32,
+    };
+    let buffers = MeshBuffers { positions, normals, vertex_count: mesh.positions.len() as u32, indices, bounds };
+    (v, i, buffers)
+}
+
+/// Writes `mesh`'s pose into its deforming buffer, as an engine's skinning pass would.
+fn write_pose(buffer: &mut Buffer, mesh: &umbra::scene::Mesh) {
+    let vertices: Vec<[f32; 8]> =
+        mesh.positions.iter().zip(&mesh.normals).map(|(p, n)| [-7.0, p.x, p.y, p.z, n.x, n.y, n.z, 9.0]).collect();
+    buffer.write(0, bytemuck::cast_slice(&vertices)).unwrap();
+}
+
+/// Pixels where `bits` (one light's visibility texels) disagree with the exact reference of
+/// `scene`, and how many were compared.
+fn against_reference(scene: &Scene, bits: &[u32]) -> (usize, usize) {
+    let reference = common::exact::Reference::new(scene);
+    let vp = scene.camera.view_proj(W as f32 / H as f32);
+    let (mut compared, mut wrong) = (0, 0);
+    for y in 0..H {
+        for x in 0..W {
+            let Some(shadowed) = reference.pixel(vp, W, H, x, y) else { continue };
+            let i = (y * W + x) as usize;
+            let (visibility, decided) = (f32::from_bits(bits[2 * i]), f32::from_bits(bits[2 * i + 1]));
+            if decided < 0.5 {
+                continue; // a surface that receives no shadow (the reference's facing aside)
+            }
+            compared += 1;
+            wrong += usize::from((visibility <= 0.5) != shadowed);
+        }
+    }
+    (compared, wrong)
+}
+
+#[test]
+fn meshes_deformed_on_the_gpu_keep_exact_volume_shadows() {
+    common::with_context(|ctx| {
+        let rest = deforming_rest();
+        // The CPU path it is compared with clips alike: not on the host (which the GPU path
+        // cannot, and SwiftShader would otherwise ask for).
+        let mut cpu = RendererDesc::new(W, H);
+        cpu.shadow_volume.host_clip = umbra::shadows::HostClip::Never;
+        let mut settings = cpu;
+        settings.shadow_volume.build = umbra::shadows::VolumeBuild::Gpu;
+        let format = Convention::umbra(ctx).format;
+        let mut shadows =
+            Shadows::new(ctx, ShadowsDesc { settings, depth_format: format, frames_in_flight: 1 }).unwrap();
+        let floor = shadows.add_mesh(rest.meshes[0].clone()).unwrap();
+        let bounds = [
+            umbra::scene::Aabb { min: Vec3::splat(-0.85), max: Vec3::splat(0.85) },
+            umbra::scene::Aabb { min: Vec3::new(-0.45, -0.8, -0.45), max: Vec3::new(0.45, 0.8, 0.45) },
+        ];
+        let mut buffers: Vec<_> = (1..3).map(|m| deforming_buffers(ctx, &rest.meshes[m], bounds[m - 1])).collect();
+        // A rest pose that is not the buffers' mesh is refused, naming the field.
+        let err = shadows.add_deforming_mesh(buffers[0].2, &rest.meshes[2]).unwrap_err().to_string();
+        println!("{err}");
+        assert!(err.starts_with("rest.positions: 24 vertices, but buffers.vertex_count is"), "{err}");
+        let mut meshes = vec![floor];
+        for (m, (_, _, b)) in (1..3).zip(&buffers) {
+            meshes.push(shadows.add_deforming_mesh(*b, &rest.meshes[m]).unwrap());
+        }
+        for o in &rest.objects {
+            shadows.add_instance(Instance::of_object(o, meshes[o.mesh])).unwrap();
+        }
+        for (frame, time) in [0.0f32, 0.9, 2.1, 3.7].into_iter().enumerate() {
+            let pose = deforming_pose(&rest, time);
+            for (m, (v, _, _)) in (1..3).zip(&mut buffers) {
+                write_pose(v, &pose.meshes[m]);
+            }
+            let engine = Engine::new(ctx, &pose);
+            let (recorded, texels) = engine_frame(ctx, &engine, &mut shadows, &pose, frame as u64);
+            let own = renderer_bits_with(ctx, &pose, cpu);
+            let differ = differing(&texels, &own);
+            let (compared, wrong) = against_reference(&pose, &texels[0].1);
+            // The slot's previous frame's passes (one frame in flight: the pose before).
+            let earlier = recorded.earlier_passes.as_deref().unwrap_or_default();
+            let positions = earlier.iter().filter(|p| p.name == "volume positions").count();
+            println!(
+                "pose {frame} (t = {time}): {differ} texels differ from the CPU path's; {wrong} of {compared} pixels \
+                 disagree with the exact reference; the frame before: {positions} volume positions pass; {} bytes uploaded",
+                recorded.geometry_uploaded_bytes
+            );
+            assert_eq!(differ, 0, "pose {frame}: the GPU-built volumes of the engine's pose against the CPU path's");
+            assert!(compared > 5000, "pose {frame}: the reference decides most pixels ({compared})");
+            assert_eq!(wrong, 0, "pose {frame}: against the exact reference");
+            assert_eq!(positions, usize::from(frame > 0), "pose {frame}: one copy of the deformed positions a frame");
+        }
+        // Lights that would read the CPU's copy are refused, naming the light and the mesh.
+        let mut refused = deforming_pose(&rest, 0.0);
+        refused.lights[0].technique = Technique::Hybrid;
+        let err = refused_record(ctx, &Engine::new(ctx, &refused), &mut shadows, &refused);
+        assert!(err.starts_with("FrameInputs::lights[0].technique: Hybrid cannot shadow with"), "{err}");
+        drop(shadows);
+        drop(buffers);
+    });
+}
+
+#[test]
+fn the_example_engine_deforms_a_mesh_on_the_gpu_under_volume_shadows() {
+    let out = common::output_dir("embed-example-deform");
+    let run = run_example(&out, &["--deform"]);
+    print!("{run}");
+    assert!(run.contains("deforming suzanne on the GPU"), "{run}");
+    let frames: Vec<&str> = run.lines().filter(|l| l.starts_with("frame ")).collect();
+    assert_eq!(frames.len(), 3, "{run}");
+    assert!(frames.iter().all(|l| l.contains("2/2 lights shadowed [ShadowVolume, ShadowVolume]")), "{run}");
+    assert!(frames[2].contains("uploaded 0 B, 0 allocations"), "warm frame: {}", frames[2]);
+    let unowned = run.lines().find(|l| l.trim_start().starts_with("no light:")).unwrap_or_default();
+    assert!(unowned.contains("volume positions"), "the pose copied once a frame: {unowned}");
+    assert!(run.contains("validation messages: 0"), "{run}");
 }

@@ -7,9 +7,9 @@ use glam::{Mat4, Vec4};
 use umbra::scene::Scene;
 use umbra::shadows::{DepthTarget, IndexStream, LightShadows, MeshBuffers, VertexStream};
 use umbra::vk::{
-    vk, Binding, Buffer, BufferDesc, ColorAttachment, ColorTarget, Context, DepthAttachment, DepthState, DescriptorSet,
-    DescriptorSetLayout, GraphicsPipeline, GraphicsPipelineDesc, Image, ImageDesc, ImageState, PipelineLayout,
-    Recorder, RenderTargets, Resource, Sampler, SamplerDesc, VertexAttribute,
+    vk, Binding, Buffer, BufferDesc, BufferState, ColorAttachment, ColorTarget, ComputePipeline, Context,
+    DepthAttachment, DepthState, DescriptorSet, DescriptorSetLayout, GraphicsPipeline, GraphicsPipelineDesc, Image,
+    ImageDesc, ImageState, PipelineLayout, Recorder, RenderTargets, Resource, Sampler, SamplerDesc, VertexAttribute,
 };
 
 /// Lights the shading pass takes.
@@ -34,6 +34,30 @@ struct FrameUniforms {
 struct Push {
     model: [f32; 16],
     albedo: [f32; 4],
+}
+
+/// The wave's push constants (`Push` in `shaders-glsl/engine/wave.comp`).
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct WavePush {
+    time: f32,
+    amplitude: f32,
+    frequency: f32,
+    count: u32,
+}
+
+/// How far the wave moves a vertex sideways, in object-space units.
+pub const WAVE_AMPLITUDE: f32 = 0.12;
+
+/// The engine's own compute pass deforming one mesh (`--deform`): its rest pose, the pipeline
+/// and the set over the rest pose and the mesh's vertices.
+struct Wave {
+    mesh: usize,
+    vertices: u32,
+    _rest: Buffer,
+    layout: PipelineLayout,
+    pipeline: ComputePipeline,
+    set: DescriptorSet,
 }
 
 /// What one frame in flight owns: its uniforms with their set, and the set of the visibility
@@ -61,17 +85,29 @@ pub struct Engine {
     /// Bound for lights umbra handed no visibility image (never sampled).
     unshadowed: Image,
     frames: Vec<FrameResources>,
+    wave: Option<Wave>,
 }
 
 impl Engine {
-    /// Targets of `width` × `height`, `scene`'s meshes uploaded, `frames` frames in flight.
-    pub fn new(ctx: &Context, scene: &Scene, width: u32, height: u32, frames: usize) -> anyhow::Result<Self> {
+    /// Targets of `width` × `height`, `scene`'s meshes uploaded, `frames` frames in flight;
+    /// mesh `deform`, if any, deformed by the engine's wave every frame ([`Engine::deform`]).
+    pub fn new(
+        ctx: &Context,
+        scene: &Scene,
+        width: u32,
+        height: u32,
+        frames: usize,
+        deform: Option<usize>,
+    ) -> anyhow::Result<Self> {
         let depth_usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
         let depth = Image::new(ctx, "engine depth", ImageDesc::new_2d(DEPTH, width, height).usage(depth_usage))?;
         let color_usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
         let color = Image::new(ctx, "engine colour", ImageDesc::new_2d(COLOR, width, height).usage(color_usage))?;
         let readback = Buffer::new(ctx, "engine readback", BufferDesc::readback(4 * u64::from(width * height)))?;
-        let meshes = scene.meshes.iter().map(|m| upload_mesh(ctx, m)).collect::<anyhow::Result<_>>()?;
+        let meshes: Vec<_> = (scene.meshes.iter().enumerate())
+            .map(|(i, m)| upload_mesh(ctx, m, deform == Some(i)))
+            .collect::<anyhow::Result<_>>()?;
+        let wave = deform.map(|mesh| Wave::new(ctx, &scene.meshes[mesh], mesh, &meshes[mesh].0)).transpose()?;
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         let uniform = [Binding { binding: 0, ty: vk::DescriptorType::UNIFORM_BUFFER, stages }];
         let uniform_layout = DescriptorSetLayout::new(ctx, "engine uniform set layout", &uniform)?;
@@ -119,7 +155,26 @@ impl Engine {
             sampler,
             unshadowed,
             frames,
+            wave,
         })
+    }
+
+    /// The engine's wave through its deformed mesh at `time` (radians of phase), before the
+    /// frame's passes: it waits for every earlier use of the vertices (frames in flight read
+    /// them), and its writes are made visible to the pre-pass's vertex input. umbra's own first
+    /// use of them waits for every earlier command.
+    pub fn deform<'a>(&'a self, rec: &mut Recorder<'a>, time: f32) {
+        let Some(w) = &self.wave else { return };
+        let vertices = &self.meshes[w.mesh].0;
+        rec.begin_label("engine wave");
+        rec.buffer_transition(&[(vertices, BufferState::Unknown, BufferState::ComputeStorage)]);
+        rec.bind_compute_pipeline(&w.pipeline);
+        rec.bind_compute_set(&w.layout, 0, &w.set);
+        let push = WavePush { time, amplitude: WAVE_AMPLITUDE, frequency: 5.0, count: w.vertices };
+        rec.push_constants(&w.layout, &push);
+        rec.dispatch([w.vertices.div_ceil(64), 1, 1]);
+        rec.buffer_transition(&[(vertices, BufferState::ComputeStorage, BufferState::VertexInput)]);
+        rec.end_label();
     }
 
     /// The depth umbra records its shadows over, in the layout the pre-pass leaves it in.
@@ -284,12 +339,40 @@ impl Engine {
     }
 }
 
-/// Interleaved positions and normals, and indices, of one mesh.
-fn upload_mesh(ctx: &Context, m: &umbra::scene::Mesh) -> anyhow::Result<(Buffer, Buffer, u32)> {
+impl Wave {
+    /// The wave through `m`, mesh `mesh`, whose interleaved vertices are `vertices`.
+    fn new(ctx: &Context, m: &umbra::scene::Mesh, mesh: usize, vertices: &Buffer) -> anyhow::Result<Self> {
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let rest = Buffer::with_data(ctx, &format!("engine {} rest pose", m.name), usage, &interleaved(m))?;
+        let (ty, stages) = (vk::DescriptorType::STORAGE_BUFFER, vk::ShaderStageFlags::COMPUTE);
+        let bindings: Vec<Binding> = (0..2).map(|binding| Binding { binding, ty, stages }).collect();
+        let set_layout = DescriptorSetLayout::new(ctx, "engine wave set layout", &bindings)?;
+        let push = std::mem::size_of::<WavePush>() as u32;
+        let layout = PipelineLayout::new(ctx, "engine wave layout", &[&set_layout], push)?;
+        let shader = umbra::shaders::get("engine/wave.comp").ok_or_else(|| anyhow::anyhow!("engine/wave.comp"))?;
+        let pipeline = ComputePipeline::new(ctx, &layout, "engine wave", shader.spirv, &[])?;
+        let resources = [Resource::Buffer(&rest), Resource::Buffer(vertices)];
+        let set = DescriptorSet::new(ctx, "engine wave set", &set_layout, &resources)?;
+        Ok(Self { mesh, vertices: m.positions.len() as u32, _rest: rest, layout, pipeline, set })
+    }
+}
+
+/// `m`'s positions and normals, interleaved.
+fn interleaved(m: &umbra::scene::Mesh) -> Vec<u8> {
     let vertices: Vec<[f32; 6]> =
         m.positions.iter().zip(&m.normals).map(|(p, n)| [p.x, p.y, p.z, n.x, n.y, n.z]).collect();
-    let usage = vk::BufferUsageFlags::VERTEX_BUFFER;
-    let v = Buffer::with_data(ctx, &format!("engine {} vertices", m.name), usage, bytemuck::cast_slice(&vertices))?;
+    bytemuck::cast_slice(&vertices).to_vec()
+}
+
+/// Interleaved positions and normals, and indices, of one mesh (storage too where the engine
+/// deforms it).
+fn upload_mesh(ctx: &Context, m: &umbra::scene::Mesh, deformed: bool) -> anyhow::Result<(Buffer, Buffer, u32)> {
+    let vertices = interleaved(m);
+    let mut usage = vk::BufferUsageFlags::VERTEX_BUFFER;
+    if deformed {
+        usage |= vk::BufferUsageFlags::STORAGE_BUFFER;
+    }
+    let v = Buffer::with_data(ctx, &format!("engine {} vertices", m.name), usage, &vertices)?;
     let usage = vk::BufferUsageFlags::INDEX_BUFFER;
     let i = Buffer::with_data(ctx, &format!("engine {} indices", m.name), usage, bytemuck::cast_slice(&m.indices))?;
     Ok((v, i, m.indices.len() as u32))

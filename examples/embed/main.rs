@@ -15,7 +15,12 @@
 //! cargo run --release --example embed -- --out out/embed
 //! cargo run --release --example embed -- --technique shadow_volume --frames 48
 //! cargo run --release --example embed -- --window
+//! cargo run --release --example embed -- --deform
 //! ```
+//!
+//! `--deform`: the engine deforms Suzanne in a compute pass of its own every frame and hands
+//! it to umbra as a deforming mesh (`Shadows::add_deforming_mesh`), whose shadow volumes are
+//! built on the GPU from each frame's pose.
 
 mod device;
 mod engine;
@@ -27,7 +32,9 @@ use engine::Engine;
 use glam::Mat4;
 use std::path::PathBuf;
 use umbra::scene::{Scene, Technique};
-use umbra::shadows::{FrameInputs, Instance, InstanceId, RendererDesc, ShadowFrame, Shadows, ShadowsDesc};
+use umbra::shadows::{
+    FrameInputs, HostClip, Instance, InstanceId, RendererDesc, ShadowFrame, Shadows, ShadowsDesc, VolumeBuild,
+};
 
 #[derive(Parser, Debug)]
 #[command(about = "A minimal engine recording umbra's shadows into its own frames")]
@@ -56,6 +63,13 @@ struct Args {
     /// Output folder (created if missing).
     #[arg(long, default_value = "out/embed")]
     out: PathBuf,
+    /// Deform the first casting object's mesh (Suzanne) in the engine's own compute pass every
+    /// frame (a sideways wave, `shaders-glsl/engine/wave.comp`) and hand it to umbra with
+    /// `Shadows::add_deforming_mesh`: its shadow volumes are built on the GPU from each frame's
+    /// pose (`VolumeBuild::Gpu`), and lights whose technique cannot read the pose (the hybrid,
+    /// silhouette maps, rays, auto) use shadow volumes.
+    #[arg(long)]
+    deform: bool,
 }
 
 fn parse_technique(s: &str) -> Result<Technique, String> {
@@ -130,17 +144,24 @@ impl Run {
             scene.lights.iter_mut().for_each(|l| l.technique = t);
         }
         anyhow::ensure!(!scene.objects.is_empty(), "{}: no objects", args.scene);
+        let deform = match args.deform {
+            true => Some(deformed_mesh(&mut scene)?),
+            false => None,
+        };
         let device = EngineDevice::new(args.frames_in_flight, surface_extensions)?;
         let ctx = device.umbra_context()?;
         let (width, height) = args.size;
-        let engine = Engine::new(&ctx, &scene, width, height, args.frames_in_flight as usize)?;
-        let desc = ShadowsDesc {
-            settings: RendererDesc::new(width, height),
-            depth_format: engine.depth_format(),
-            frames_in_flight: args.frames_in_flight,
-        };
+        let engine = Engine::new(&ctx, &scene, width, height, args.frames_in_flight as usize, deform)?;
+        let mut settings = RendererDesc::new(width, height);
+        if deform.is_some() {
+            // Built on the GPU, never clipped on the host (which the GPU path cannot do).
+            settings.shadow_volume.build = VolumeBuild::Gpu;
+            settings.shadow_volume.host_clip = HostClip::Never;
+        }
+        let desc =
+            ShadowsDesc { settings, depth_format: engine.depth_format(), frames_in_flight: args.frames_in_flight };
         let mut shadows = Shadows::new(&ctx, desc)?;
-        let ids = register(&mut shadows, &scene, &engine)?;
+        let ids = register(&mut shadows, &scene, &engine, deform)?;
         let device_name = &ctx.capabilities().device_name;
         let in_place = (0..scene.meshes.len()).filter(|&m| !casts(&scene, m)).count();
         println!(
@@ -149,6 +170,12 @@ impl Run {
             scene.meshes.len(),
             scene.lights.len()
         );
+        if let Some(m) = deform {
+            println!(
+                "deforming {} on the GPU: its shadow volumes built on the GPU from each frame's pose",
+                scene.meshes[m].name
+            );
+        }
         let moving = (scene.objects.len() - 1, scene.objects[scene.objects.len() - 1].transform);
         let frames_in_flight = args.frames_in_flight;
         Ok(Self { scene, ids, moving, frames_in_flight, shadows, engine, ctx, device })
@@ -170,6 +197,7 @@ impl Run {
             FrameInputs { depth: engine.depth_target(), view, proj, lights: &scene.lights, frame_index: frame };
         {
             let mut rec = self.ctx.record_into(cmd);
+            engine.deform(&mut rec, angle * 4.0);
             engine.depth_prepass(&mut rec, slot, scene)?;
         }
         let recorded = self.shadows.record(cmd, &inputs)?;
@@ -209,12 +237,24 @@ impl Drop for Run {
 
 /// Registers every mesh and object of `scene` with umbra: a mesh that casts shadows from its
 /// CPU data (volumes and the hybrid build geometry from it), one that only receives them from
-/// the engine's own buffers, which umbra draws in place.
-fn register(shadows: &mut Shadows, scene: &Scene, engine: &Engine) -> anyhow::Result<Vec<InstanceId>> {
+/// the engine's own buffers, which umbra draws in place, and mesh `deform` from the engine's
+/// buffers with its rest pose (its bounds grown by the wave's reach).
+fn register(
+    shadows: &mut Shadows,
+    scene: &Scene,
+    engine: &Engine,
+    deform: Option<usize>,
+) -> anyhow::Result<Vec<InstanceId>> {
     let meshes = (scene.meshes.iter().enumerate())
-        .map(|(i, m)| match casts(scene, i) {
-            true => shadows.add_mesh(m.clone()),
-            false => shadows.add_mesh_buffers(engine.mesh_buffers(i, m.bounds())),
+        .map(|(i, m)| match (deform == Some(i), casts(scene, i)) {
+            (true, _) => {
+                let mut bounds = m.bounds();
+                bounds.min.x -= engine::WAVE_AMPLITUDE;
+                bounds.max.x += engine::WAVE_AMPLITUDE;
+                shadows.add_deforming_mesh(engine.mesh_buffers(i, bounds), m)
+            }
+            (false, true) => shadows.add_mesh(m.clone()),
+            (false, false) => shadows.add_mesh_buffers(engine.mesh_buffers(i, m.bounds())),
         })
         .collect::<Result<Vec<_>, _>>()?;
     let mut ids = Vec::new();
@@ -222,6 +262,19 @@ fn register(shadows: &mut Shadows, scene: &Scene, engine: &Engine) -> anyhow::Re
         ids.push(shadows.add_instance(Instance::of_object(o, meshes[o.mesh]))?);
     }
     Ok(ids)
+}
+
+/// `--deform`: the mesh of `scene`'s first casting object, every light whose technique cannot
+/// read a pose deformed on the GPU switched to shadow volumes.
+fn deformed_mesh(scene: &mut Scene) -> anyhow::Result<usize> {
+    let object = scene.objects.iter().find(|o| o.casts_shadows).ok_or_else(|| anyhow::anyhow!("no casting object"))?;
+    for light in &mut scene.lights {
+        if !matches!(light.technique, Technique::ShadowMap | Technique::ShadowVolume | Technique::Unshadowed) {
+            println!("--deform: a {:?} light uses ShadowVolume (only it and ShadowMap read the pose)", light.technique);
+            light.technique = Technique::ShadowVolume;
+        }
+    }
+    Ok(object.mesh)
 }
 
 /// Whether an object drawing mesh `mesh` casts shadows.

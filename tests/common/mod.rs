@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod clip;
+pub mod exact;
 pub mod raycast;
 
 use std::path::PathBuf;

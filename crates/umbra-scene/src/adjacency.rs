@@ -53,6 +53,9 @@ pub struct TopologyReport {
 pub struct Adjacency {
     /// Welded positions.
     pub positions: Vec<Vec3>,
+    /// Per welded position, the first of the mesh's vertices welded into it (where a copy of
+    /// the mesh's vertices, deformed on the GPU, finds each welded position again).
+    pub welded_from: Vec<u32>,
     /// Triangles over welded positions, in the mesh's order (winding kept).
     pub triangles: Vec<[u32; 3]>,
     /// Every undirected edge of the non-degenerate triangles.
@@ -72,15 +75,17 @@ impl Adjacency {
     /// Welds `mesh` by exact position and builds its edges.
     pub fn build(mesh: &Mesh) -> Self {
         let mut remap: HashMap<[u32; 3], u32> = HashMap::with_capacity(mesh.positions.len());
-        let mut positions = Vec::new();
+        let (mut positions, mut welded_from) = (Vec::new(), Vec::new());
         let welded: Vec<u32> = mesh
             .positions
             .iter()
-            .map(|p| {
+            .enumerate()
+            .map(|(i, p)| {
                 // -0.0 and 0.0 are the same point.
                 let key = (*p + Vec3::ZERO).to_array().map(f32::to_bits);
                 *remap.entry(key).or_insert_with(|| {
                     positions.push(*p);
+                    welded_from.push(i as u32);
                     positions.len() as u32 - 1
                 })
             })
@@ -92,7 +97,7 @@ impl Adjacency {
             .collect();
         let (edges, report) = edges_of(positions.len(), &triangles);
         let convex = report.closed && triangles.len() <= CONVEX_TEST_TRIANGLES && convex(&positions, &triangles);
-        Self { positions, triangles, edges, report, convex }
+        Self { positions, welded_from, triangles, edges, report, convex }
     }
 }
 
@@ -187,5 +192,18 @@ mod tests {
         }
         let r = Adjacency::build(&primitives::plane(1.0)).report;
         assert_eq!((r.boundary_edges, r.closed), (4, false));
+    }
+
+    #[test]
+    fn each_welded_position_names_the_first_vertex_welded_into_it() {
+        // A cuboid's faces have vertices of their own: 24 vertices weld into 8 corners.
+        let m = primitives::cuboid(Vec3::ONE);
+        let adj = Adjacency::build(&m);
+        assert_eq!((m.positions.len(), adj.positions.len(), adj.welded_from.len()), (24, 8, 8));
+        for (w, &v) in adj.welded_from.iter().enumerate() {
+            assert_eq!(m.positions[v as usize], adj.positions[w]);
+            let first = m.positions.iter().position(|p| *p == adj.positions[w]);
+            assert_eq!(first, Some(v as usize), "welded position {w}");
+        }
     }
 }

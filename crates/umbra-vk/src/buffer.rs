@@ -194,6 +194,8 @@ pub enum BufferState {
     ComputeStorage,
     /// Read by vertex shaders as a storage buffer and as indirect draw arguments.
     VertexRead,
+    /// Read as vertex attributes and indices (vertex input).
+    VertexInput,
 }
 
 impl BufferState {
@@ -213,6 +215,7 @@ impl BufferState {
             BufferState::VertexRead => {
                 (S::DRAW_INDIRECT | S::VERTEX_SHADER, A::INDIRECT_COMMAND_READ | A::SHADER_STORAGE_READ)
             }
+            BufferState::VertexInput => (S::VERTEX_INPUT, A::VERTEX_ATTRIBUTE_READ | A::INDEX_READ),
         }
     }
 

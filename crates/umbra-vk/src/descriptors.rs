@@ -58,6 +58,14 @@ impl Drop for DescriptorSetLayout {
 pub enum Resource<'a> {
     /// A whole uniform or storage buffer.
     Buffer(&'a Buffer),
+    /// A whole buffer the caller owns and keeps alive while the set is used (an engine's:
+    /// created with the usage the binding's type needs), of `size` bytes.
+    ExternalBuffer {
+        /// The buffer.
+        buffer: vk::Buffer,
+        /// Its size in bytes, checked against the descriptor type's range limit.
+        size: u64,
+    },
     /// A sampled image with its sampler, in `layout`.
     SampledImage {
         /// The view read.
@@ -186,18 +194,16 @@ impl Drop for DescriptorArena {
 /// Refuses a buffer larger than its descriptor type can bind.
 fn check_ranges(ctx: &Context, name: &str, layout: &DescriptorSetLayout, resources: &[Resource<'_>]) -> VkResult<()> {
     for (b, r) in layout.bindings.iter().zip(resources) {
-        if let (Resource::Buffer(buffer), Some(limit)) = (r, range_limit(ctx, b.ty)) {
-            if buffer.desc.size > limit.value {
-                return Err(ctx.over_limit(
-                    format!(
-                        "descriptor set {name:?}, binding {}: {} of {:?}",
-                        b.binding,
-                        human_bytes(buffer.desc.size),
-                        b.ty
-                    ),
-                    limit,
-                ));
-            }
+        let size = match *r {
+            Resource::Buffer(buffer) => buffer.desc.size,
+            Resource::ExternalBuffer { size, .. } => size,
+            _ => continue,
+        };
+        if let Some(limit) = range_limit(ctx, b.ty).filter(|limit| size > limit.value) {
+            return Err(ctx.over_limit(
+                format!("descriptor set {name:?}, binding {}: {} of {:?}", b.binding, human_bytes(size), b.ty),
+                limit,
+            ));
         }
     }
     Ok(())
@@ -226,6 +232,9 @@ fn write(ctx: &Context, raw: vk::DescriptorSet, layout: &DescriptorSetLayout, re
         .iter()
         .map(|r| match r {
             Resource::Buffer(b) => [vk::DescriptorBufferInfo { buffer: b.raw, offset: 0, range: vk::WHOLE_SIZE }],
+            &Resource::ExternalBuffer { buffer, .. } => {
+                [vk::DescriptorBufferInfo { buffer, offset: 0, range: vk::WHOLE_SIZE }]
+            }
             _ => [vk::DescriptorBufferInfo::default()],
         })
         .collect();
@@ -251,7 +260,7 @@ fn write(ctx: &Context, raw: vk::DescriptorSet, layout: &DescriptorSetLayout, re
         .map(|(i, (b, r))| {
             let w = vk::WriteDescriptorSet::default().dst_set(raw).dst_binding(b.binding).descriptor_type(b.ty);
             match r {
-                Resource::Buffer(_) => w.buffer_info(&buffer_infos[i]),
+                Resource::Buffer(_) | Resource::ExternalBuffer { .. } => w.buffer_info(&buffer_infos[i]),
                 Resource::SampledImage { .. } | Resource::StorageImage(_) => w.image_info(&image_infos[i]),
             }
         })

@@ -23,6 +23,9 @@ pub enum PassId {
     DepthRebuild,
     /// Diagnostic: world positions and normals for the exact reference.
     GBuffer,
+    /// Shadow volumes built on the GPU: the meshes an engine deforms on the GPU copied into the
+    /// volumes' positions, once a frame.
+    VolumePositions,
     /// Shadow volumes built on the GPU: how each caster's triangles face the light.
     VolumeClassify(usize),
     /// Shadow volumes built on the GPU: each caster's silhouette edges, listed for its draw.
@@ -92,6 +95,7 @@ impl PassId {
             PassId::Ambient => "ambient".into(),
             PassId::DepthRebuild => "depth rebuild".into(),
             PassId::GBuffer => "g-buffer".into(),
+            PassId::VolumePositions => "volume positions".into(),
             PassId::VolumeClassify(l) => format!("volume classify {l}"),
             PassId::VolumeSilhouettes(l) => format!("volume silhouettes {l}"),
             PassId::ShadowVolume(l) => format!("shadow_volume {l}"),
@@ -129,6 +133,7 @@ impl PassId {
             | PassId::Ambient
             | PassId::DepthRebuild
             | PassId::GBuffer
+            | PassId::VolumePositions
             | PassId::Readback
             | PassId::RayStatsReset
             | PassId::RayStatsReadback
@@ -192,6 +197,7 @@ mod tests {
             PassId::DepthRebuild,
             PassId::MeshUpload,
             PassId::GBuffer,
+            PassId::VolumePositions,
             PassId::Readback,
             PassId::HandOff,
             PassId::RayStatsReset,

@@ -455,10 +455,14 @@ pub(crate) enum VolumeSource<'a> {
 
 impl<'a> VolumeSource<'a> {
     /// What the counting draws read besides the depth/stencil: the GPU-built volumes' facing,
-    /// lists and indirect draws, as vertex input.
+    /// lists and indirect draws, and the positions where a mesh deforms on the GPU, as vertex
+    /// input.
     pub fn reads(&self) -> Vec<crate::frame::Use<'a>> {
         let VolumeSource::Gpu(g, _) = self else { return Vec::new() };
         let read = |b| crate::frame::Use::Buffer(b, umbra_vk::BufferState::VertexRead);
-        g.written().map_or_else(Vec::new, |(facing, list, draws)| vec![read(facing), read(list), read(draws)])
+        let mut reads =
+            g.written().map_or_else(Vec::new, |(facing, list, draws)| vec![read(facing), read(list), read(draws)]);
+        reads.extend(g.deformed_positions().map(read));
+        reads
     }
 }

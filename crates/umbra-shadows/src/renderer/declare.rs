@@ -195,6 +195,7 @@ impl Renderer {
         let mut queries = vec![LightQueries::default(); f.lights.len()];
         let mut overdraw = false;
         let stats = self.declare_ray_stats_reset(stage, f);
+        self.declare_volume_positions(stage, f);
         for light in f.lights.iter().filter(|l| l.plan.recorded) {
             let l = light.light();
             let Some(shadow_set) = &f.bindings[l].shadow_set else { continue };
@@ -405,6 +406,22 @@ impl Renderer {
         self.declare_stencil_resolve(stage, f, light)
     }
 
+    /// `volume positions`: the meshes an engine deforms on the GPU copied into the volumes'
+    /// positions (`shadow_volume/deform.rs`), once a frame before any light's volumes are
+    /// built on the GPU; nothing when no mesh deforms or no light builds volumes.
+    fn declare_volume_positions<'a>(&'a self, stage: &mut Stage<'a>, f: FrameInputs<'a>) {
+        let Some(g) = self.gpu_volumes.as_ref() else { return };
+        let Some(positions) = g.deformed_positions() else { return };
+        let built = |l: &LightFrame| l.plan.recorded && l.volumes.as_ref().is_some_and(|v| v.gpu.is_some());
+        if !f.lights.iter().any(built) {
+            return;
+        }
+        stage.pass(PassId::VolumePositions, &[Use::Buffer(positions, BufferState::ComputeStorage)], move |cx| {
+            g.record_deform(cx.rec);
+            Ok(())
+        });
+    }
+
     /// The GPU's build of a light's volumes: `volume classify N` (the frame's first such light
     /// also resets every job's draw) and `volume silhouettes N`. Returns the path and the
     /// frame slot's set its counting draws bind.
@@ -427,6 +444,7 @@ impl Renderer {
         let storage = BufferState::ComputeStorage;
         let mut uses = vec![Use::Buffer(facing, storage)];
         uses.extend(reset.map(|_| Use::Buffer(draws, BufferState::TransferDst)));
+        uses.extend(g.deformed_positions().map(|p| Use::Buffer(p, BufferState::ComputeRead)));
         stage.pass(PassId::VolumeClassify(l), &uses, move |cx| {
             g.record_classify(cx.rec, slot, volumes, reset);
             Ok(())

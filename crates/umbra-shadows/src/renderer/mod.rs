@@ -93,6 +93,8 @@ pub struct Renderer {
     /// Per mesh, the engine's buffers it is copied from instead of its CPU data (engine only:
     /// `Shadows::add_mesh_buffers`).
     pub(crate) engine_meshes: Vec<Option<crate::shadows::MeshBuffers>>,
+    /// The engine's meshes that deform on the GPU (`Shadows::add_deforming_mesh`).
+    pub(crate) deforming: crate::shadow_volume::deform::Deforming,
     /// The frame's host-written buffers, sets and query pools, kept between frames.
     slot: FrameSlot,
     /// Per light, its diagnostic readbacks (with `diagnostics`), kept while they fit.
@@ -238,6 +240,7 @@ impl Renderer {
             meshes: MeshCache::default(),
             geometry: None,
             engine_meshes: Vec::new(),
+            deforming: Default::default(),
             slot,
             readbacks: Vec::new(),
             overdraw,

@@ -176,7 +176,12 @@ impl Renderer {
                 Some(MapSize::Settings) | None => settings.resolution,
             };
             let resolution = source.shadow_map_size.or(set).unwrap_or_else(|| {
-                self.grid_samples.resolution_from_frame(plan.light, &views, view.seen(self.desc.height), self.desc.width)
+                self.grid_samples.resolution_from_frame(
+                    plan.light,
+                    &views,
+                    view.seen(self.desc.height),
+                    self.desc.width,
+                )
             });
             let map_bytes = self.shadow_map.check(&self.ctx, plan.light, resolution, views.kind)?;
             // The hybrid's depth bounds: two layers per face of the map's D32 depth; its depth
@@ -227,7 +232,7 @@ impl Renderer {
             let source = &scene.lights[plan.light];
             let boxes = &view.boxes;
             if let Some(g) = self.gpu_volumes.as_mut() {
-                g.prepare_arrays(&self.ctx, adjacency, &mut self.slot.retired)?;
+                g.prepare_arrays(&self.ctx, adjacency, self.deforming.streams(), &mut self.slot.retired)?;
                 let (casters, ranges) = (&plan.volume_casters, g.ranges());
                 let v = volumes::jobs_for_light(
                     scene, casters, adjacency, ranges, boxes, source, &view.view, mode, &mut jobs, &mut next,

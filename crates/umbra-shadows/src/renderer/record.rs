@@ -69,7 +69,8 @@ impl Renderer {
     pub(super) fn frame(&mut self, scene: &Scene, view: FrameView, out: Output<'_>) -> RenderResult<Recorded> {
         self.slot.begin();
         let mut lights = self.plan(scene, &view)?;
-        let adjacency = self.meshes.adjacency(scene)?;
+        let mut adjacency = self.meshes.adjacency(scene)?;
+        self.deforming.substitute(&mut adjacency);
         let mut streams = std::mem::take(&mut self.slot.streams);
         let ran = self.prepare_and_run(scene, &view, &adjacency, &mut lights, &mut streams, out);
         self.slot.streams = streams;

@@ -27,7 +27,7 @@ use umbra_vk::{
 };
 
 /// Invocations per workgroup of both stages (`local_size_x`).
-const GROUP: u32 = 64;
+pub(crate) const GROUP: u32 = 64;
 
 /// One caster's volume for one light, as `VolumeJob` in `shadow_volume/gpu_volume.glsl`.
 #[repr(C)]

@@ -12,6 +12,7 @@
 
 use super::batches::{record_in_batches, CountBits, FULL_STENCIL};
 use super::build::{Counting, LightVolumes};
+use super::deform::{DeformCopies, DeformPipeline};
 use super::gpu::{AdjacencyArrays, GpuSilhouettes, MeshRange};
 use super::pass::{Counting4, VolumeInput};
 use crate::forward::PassBounds;
@@ -19,6 +20,7 @@ use crate::gpu_scene::GpuScene;
 use crate::hybrid::masked::MaskedCounting;
 use crate::hybrid::MaskKind;
 use crate::retired::Retired;
+use crate::shadows::VertexStream;
 use crate::timing::PassLog;
 use crate::RenderResult;
 use std::sync::Arc;
@@ -37,10 +39,14 @@ struct JobPush {
     job: u32,
 }
 
-/// The meshes' adjacency on the GPU, for the meshes it was made from.
+/// The meshes' adjacency on the GPU, for the meshes (and deforming meshes' position streams)
+/// it was made from.
 struct Arrays {
     meshes: Vec<Arc<Adjacency>>,
+    streams: Vec<Option<VertexStream>>,
     ranges: Vec<MeshRange>,
+    /// The deforming meshes' copies into `buffers[0]`, the positions.
+    deform: Option<DeformCopies>,
     buffers: [Buffer; 4],
 }
 
@@ -66,6 +72,8 @@ pub(crate) struct GpuVolumes {
     caps: Counting4,
     /// A hybrid light's step 3 (`hybrid::masked`): its sides and its caps.
     hybrid: [MaskedCounting; 2],
+    /// `volume positions`, the deforming meshes' copy.
+    deform: DeformPipeline,
     arrays: Option<Arrays>,
     written: Option<Written>,
     /// Counts new arrays or written buffers (a slot's set over older ones is made again).
@@ -91,7 +99,8 @@ impl GpuVolumes {
         let has_bounds = ctx.capabilities().depth_bounds;
         let masked = |input| MaskedCounting::new(ctx, &layout, depth_format, clamp, has_bounds, input);
         let hybrid = [masked(VolumeInput::GpuSides)?, masked(VolumeInput::GpuCaps)?];
-        Ok(Self { stages, layout, sides, caps, hybrid, arrays: None, written: None, generation: 0 })
+        let deform = DeformPipeline::new(ctx)?;
+        Ok(Self { stages, layout, sides, caps, hybrid, deform, arrays: None, written: None, generation: 0 })
     }
 
     /// Every mesh's place in the arrays (after [`Self::prepare`]).
@@ -99,15 +108,19 @@ impl GpuVolumes {
         self.arrays.as_ref().map_or(&[], |a| &a.ranges)
     }
 
-    /// Uploads the meshes' adjacency when it is not `adjacency` already.
+    /// Uploads the meshes' adjacency when it is not `adjacency` already; `streams` (by mesh
+    /// index) names the engine's position stream of each mesh that deforms on the GPU.
     pub fn prepare_arrays(
         &mut self,
         ctx: &Context,
         adjacency: &[Arc<Adjacency>],
+        streams: &[Option<VertexStream>],
         retired: &mut Retired,
     ) -> RenderResult<()> {
         let same = self.arrays.as_ref().is_some_and(|a| {
-            a.meshes.len() == adjacency.len() && a.meshes.iter().zip(adjacency).all(|(x, y)| Arc::ptr_eq(x, y))
+            a.meshes.len() == adjacency.len()
+                && a.meshes.iter().zip(adjacency).all(|(x, y)| Arc::ptr_eq(x, y))
+                && a.streams == streams
         });
         if same {
             return Ok(());
@@ -129,9 +142,25 @@ impl GpuVolumes {
             buffer("gpu shadow volume edges", bytemuck::cast_slice(&flat.edges))?,
             buffer("gpu shadow volume edge faces", bytemuck::cast_slice(&flat.edge_faces))?,
         ];
+        let deform = self.deform.copies(ctx, &buffers[0], adjacency, streams)?;
         self.generation += 1;
-        self.arrays = Some(Arrays { meshes: adjacency.to_vec(), ranges: flat.meshes, buffers });
+        let streams = streams.to_vec();
+        self.arrays = Some(Arrays { meshes: adjacency.to_vec(), streams, ranges: flat.meshes, deform, buffers });
         Ok(())
+    }
+
+    /// The positions array when a mesh deforms on the GPU: `volume positions` writes it each
+    /// frame, before the stages and draws read it.
+    pub fn deformed_positions(&self) -> Option<&Buffer> {
+        self.arrays.as_ref().filter(|a| a.deform.is_some()).map(|a| &a.buffers[0])
+    }
+
+    /// `volume positions`: every deforming mesh's welded positions copied from the engine's
+    /// stream (the positions in `ComputeStorage`).
+    pub fn record_deform<'a>(&'a self, rec: &mut Recorder<'a>) {
+        if let Some(copies) = self.arrays.as_ref().and_then(|a| a.deform.as_ref()) {
+            self.deform.record(rec, copies);
+        }
     }
 
     /// Makes sure the written buffers hold `facing` and `list` entries and `jobs` draws.

@@ -16,6 +16,7 @@
 pub(crate) mod batches;
 pub(crate) mod build;
 pub(crate) mod clip;
+pub(crate) mod deform;
 pub(crate) mod gpu;
 pub(crate) mod gpu_frame;
 pub(crate) mod pass;

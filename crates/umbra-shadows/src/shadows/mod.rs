@@ -145,12 +145,45 @@ impl Shadows {
         Ok(id)
     }
 
+    /// Registers a mesh the engine deforms on the GPU (skinned, displaced): drawn from its
+    /// buffers as [`Shadows::add_mesh_buffers`] meshes are, and shadowed exactly by shadow
+    /// volumes built on the GPU, which read `buffers.positions` anew every frame (the `volume
+    /// positions` pass copies them on the GPU; the host does nothing per vertex or triangle).
+    ///
+    /// `rest` is the same mesh in its rest pose, on the CPU: its indices must be those of
+    /// `buffers.indices` and its vertex count `buffers.vertex_count`. umbra welds it once for
+    /// its connectivity, so vertices that share a position in the rest pose must share it in
+    /// every pose (a skinned mesh's seams do). `buffers.positions.buffer` also needs
+    /// `STORAGE_BUFFER` usage, and `buffers.bounds` must hold every pose (culling and map
+    /// fitting read only it). Only [`Technique::ShadowMap`] and [`Technique::ShadowVolume`]
+    /// with [`crate::VolumeBuild::Gpu`] shadow with such a mesh; other lights refuse it, with a
+    /// typed error from [`Shadows::record`]. The engine writes the positions before the
+    /// commands [`Shadows::record`] records run, in the same or an earlier submission (umbra's
+    /// first use of them waits for every earlier command).
+    pub fn add_deforming_mesh(&mut self, buffers: MeshBuffers, rest: &Mesh) -> RenderResult<MeshId> {
+        buffers.validate()?;
+        rest.validate().map_err(|e| invalid("rest".into(), e.to_string()))?;
+        if rest.positions.len() != buffers.vertex_count as usize {
+            let why =
+                format!("{} vertices, but buffers.vertex_count is {}", rest.positions.len(), buffers.vertex_count);
+            return Err(invalid("rest.positions".into(), why));
+        }
+        if rest.indices.len() != buffers.indices.count as usize {
+            let why = format!("{} indices, but buffers.indices.count is {}", rest.indices.len(), buffers.indices.count);
+            return Err(invalid("rest.indices".into(), why));
+        }
+        let id = self.add_mesh_buffers(buffers)?;
+        self.renderer.deforming.set(id.0 as usize, rest, buffers.positions);
+        Ok(id)
+    }
+
     /// Forgets a mesh no instance draws any more.
     pub fn remove_mesh(&mut self, mesh: MeshId) -> RenderResult<()> {
         self.registry.remove_mesh(mesh)?;
         if let Some(engine) = self.renderer.engine_meshes.get_mut(mesh.0 as usize) {
             *engine = None;
         }
+        self.renderer.deforming.clear(mesh.0 as usize);
         Ok(())
     }
 
@@ -258,28 +291,34 @@ impl Shadows {
     }
 
     /// A typed error when a light whose technique builds geometry from the casters' triangles
-    /// on the CPU would need a mesh only the engine's buffers hold.
+    /// on the CPU would need a mesh only the engine's buffers hold (a deforming mesh's rest
+    /// pose serves shadow volumes built on the GPU, and nothing else).
     fn check_engine_meshes(&self, lights: &[umbra_scene::Light]) -> RenderResult<()> {
         let engine = &self.renderer.engine_meshes;
         let scene = &self.registry.scene;
-        let Some(o) = scene.objects.iter().find(|o| o.casts_shadows && engine.get(o.mesh).is_some_and(Option::is_some))
-        else {
-            return Ok(());
-        };
         let on_cpu =
             |t: Technique| t == Technique::Auto || needs(t).volumes.is_some() || needs(t).silhouette || needs(t).rays;
-        match lights.iter().position(|l| on_cpu(l.technique)) {
-            None => Ok(()),
-            Some(i) => Err(invalid(
-                format!("FrameInputs::lights[{i}].technique"),
-                format!(
+        let gpu_volumes = self.desc.settings.shadow_volume.build == crate::VolumeBuild::Gpu;
+        for o in scene.objects.iter().filter(|o| o.casts_shadows && engine.get(o.mesh).is_some_and(Option::is_some)) {
+            let deforms = self.renderer.deforming.holds(o.mesh);
+            let refused = |t: Technique| on_cpu(t) && !(deforms && gpu_volumes && t == Technique::ShadowVolume);
+            let Some(i) = lights.iter().position(|l| refused(l.technique)) else { continue };
+            let why = match deforms {
+                true => format!(
+                    "{:?} cannot shadow with {}, a mesh deformed on the GPU (add_deforming_mesh): only ShadowMap, \
+                     and ShadowVolume with settings.shadow_volume.build = VolumeBuild::Gpu, read its pose",
+                    lights[i].technique, o.name
+                ),
+                false => format!(
                     "{:?} builds shadows from the casters' triangles on the CPU, but {} casts shadows with a mesh \
                      registered by add_mesh_buffers, which umbra never reads on the CPU: register that mesh with \
                      add_mesh, or shadow this light with ShadowMap",
                     lights[i].technique, o.name
                 ),
-            )),
+            };
+            return Err(invalid(format!("FrameInputs::lights[{i}].technique"), why));
         }
+        Ok(())
     }
 
     /// What the engine gets of one recorded light.
