@@ -249,6 +249,20 @@ impl<'a> Recorder<'a> {
         self.buffer_barriers(&scopes);
     }
 
+    /// A global memory dependency from every use in `from` to every use in `to`, whatever the
+    /// buffer (one the caller does not own, an engine's, included).
+    pub fn memory_barrier(&mut self, from: BufferState, to: BufferState) {
+        let ((src_stage, src_access), (dst_stage, dst_access)) = (from.stage_access(), to.stage_access());
+        let barrier = [vk::MemoryBarrier2::default()
+            .src_stage_mask(src_stage)
+            .src_access_mask(src_access)
+            .dst_stage_mask(dst_stage)
+            .dst_access_mask(dst_access)];
+        let dep = vk::DependencyInfo::default().memory_barriers(&barrier);
+        // SAFETY: no resource is named; stage masks are never empty.
+        unsafe { self.device().cmd_pipeline_barrier2(self.cmd, &dep) };
+    }
+
     /// One batched barrier of buffer memory dependencies, each whole buffer from its
     /// (stages, accesses) to its (stages, accesses).
     fn buffer_barriers(&mut self, scopes: &[(&'a Buffer, StageAccess, StageAccess)]) {

@@ -58,8 +58,8 @@ impl Drop for DescriptorSetLayout {
 pub enum Resource<'a> {
     /// A whole uniform or storage buffer.
     Buffer(&'a Buffer),
-    /// A whole buffer the caller owns and keeps alive while the set is used (an engine's:
-    /// created with the usage the binding's type needs), of `size` bytes.
+    /// The first `size` bytes of a buffer the caller owns and keeps alive while the set is
+    /// used (an engine's: created with the usage the binding's type needs).
     ExternalBuffer {
         /// The buffer.
         buffer: vk::Buffer,
@@ -232,9 +232,7 @@ fn write(ctx: &Context, raw: vk::DescriptorSet, layout: &DescriptorSetLayout, re
         .iter()
         .map(|r| match r {
             Resource::Buffer(b) => [vk::DescriptorBufferInfo { buffer: b.raw, offset: 0, range: vk::WHOLE_SIZE }],
-            &Resource::ExternalBuffer { buffer, .. } => {
-                [vk::DescriptorBufferInfo { buffer, offset: 0, range: vk::WHOLE_SIZE }]
-            }
+            &Resource::ExternalBuffer { buffer, size } => [vk::DescriptorBufferInfo { buffer, offset: 0, range: size }],
             _ => [vk::DescriptorBufferInfo::default()],
         })
         .collect();

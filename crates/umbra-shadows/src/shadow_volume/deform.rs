@@ -16,8 +16,8 @@ use crate::RenderResult;
 use std::sync::Arc;
 use umbra_scene::Adjacency;
 use umbra_vk::{
-    vk, Binding, Buffer, BufferDesc, ComputePipeline, Context, DescriptorSet, DescriptorSetLayout, PipelineLayout,
-    Recorder, Resource,
+    vk, Binding, Buffer, BufferDesc, BufferState, ComputePipeline, Context, DescriptorSet, DescriptorSetLayout,
+    PipelineLayout, Recorder, Resource,
 };
 
 /// The meshes registered as deforming, by mesh index: their rest pose's connectivity and the
@@ -83,14 +83,14 @@ struct DeformPush {
 }
 
 /// One deforming mesh's copy: its set (the engine's buffer, the map, the positions) and push.
-struct Copy {
+struct MeshCopy {
     set: DescriptorSet,
     push: DeformPush,
 }
 
 /// The copies of every deforming mesh into one positions array, with the map they read.
 pub(crate) struct DeformCopies {
-    copies: Vec<Copy>,
+    copies: Vec<MeshCopy>,
     /// Every deforming mesh's `welded_from`, concatenated (the sets read it).
     _map: Buffer,
 }
@@ -158,14 +158,17 @@ impl DeformPipeline {
                 let engine = Resource::ExternalBuffer { buffer: s.buffer, size: s.buffer_size };
                 let resources = [engine, Resource::Buffer(&map_buffer), Resource::Buffer(positions)];
                 let name = format!("volume positions {k}");
-                Ok(Copy { set: DescriptorSet::new(ctx, &name, &self.set_layout, &resources)?, push })
+                Ok(MeshCopy { set: DescriptorSet::new(ctx, &name, &self.set_layout, &resources)?, push })
             })
             .collect::<RenderResult<_>>()?;
         Ok(Some(DeformCopies { copies, _map: map_buffer }))
     }
 
-    /// Records every mesh's copy (the positions in `ComputeStorage`).
+    /// Records every mesh's copy (the positions in `ComputeStorage`), after a global memory
+    /// barrier that makes every earlier write visible to it: the engine's pose, written by
+    /// whatever it likes (a compute pass, a copy, the host) into buffers umbra does not track.
     pub fn record<'a>(&'a self, rec: &mut Recorder<'a>, copies: &'a DeformCopies) {
+        rec.memory_barrier(BufferState::Unknown, BufferState::ComputeRead);
         rec.bind_compute_pipeline(&self.pipeline);
         for c in &copies.copies {
             rec.bind_compute_set(&self.layout, 0, &c.set);

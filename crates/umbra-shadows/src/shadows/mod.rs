@@ -134,7 +134,8 @@ impl Shadows {
     /// meshes copies it into umbra's buffers on the GPU, and only its bounds are kept. Lights
     /// whose technique builds geometry on the CPU (shadow volumes, the hybrid, silhouette maps,
     /// `auto`) refuse instances of it that cast shadows: a typed error from [`Shadows::record`].
-    /// The buffers must live, unchanged, while the mesh is registered.
+    /// The buffers must live, unchanged, while the mesh is registered (a mesh whose positions
+    /// change on the GPU is registered with [`Shadows::add_deforming_mesh`]).
     pub fn add_mesh_buffers(&mut self, mesh: MeshBuffers) -> RenderResult<MeshId> {
         mesh.validate()?;
         let placeholder = mesh.placeholder(format!("engine mesh {}", self.registry.scene.meshes.len()))?;
@@ -158,8 +159,11 @@ impl Shadows {
     /// fitting read only it). Only [`Technique::ShadowMap`] and [`Technique::ShadowVolume`]
     /// with [`crate::VolumeBuild::Gpu`] shadow with such a mesh; other lights refuse it, with a
     /// typed error from [`Shadows::record`]. The engine writes the positions before the
-    /// commands [`Shadows::record`] records run, in the same or an earlier submission (umbra's
-    /// first use of them waits for every earlier command).
+    /// commands [`Shadows::record`] records run, in the same or an earlier submission: umbra's
+    /// copy starts with a global barrier from every earlier command's writes to its compute
+    /// read; its draws of the mesh, like the engine's own, need the writes made visible to
+    /// `VERTEX_ATTRIBUTE_INPUT` by the engine. The buffers' handles and layout stay as given
+    /// while the mesh is registered; only the positions' contents change.
     pub fn add_deforming_mesh(&mut self, buffers: MeshBuffers, rest: &Mesh) -> RenderResult<MeshId> {
         buffers.validate()?;
         rest.validate().map_err(|e| invalid("rest".into(), e.to_string()))?;
