@@ -166,7 +166,7 @@ fn image_scenes() -> Vec<(String, Scene)> {
 #[test]
 fn volumes_built_on_the_gpu_give_the_cpu_paths_images_bit_for_bit() {
     common::with_context(|ctx| {
-        let (mut scenes, mut lights) = (0, 0);
+        let (mut scenes, mut lights, mut counted) = (0, 0, 0);
         for (name, scene) in image_scenes() {
             for variant in VARIANTS {
                 let cpu = render(ctx, &scene, VolumeBuild::Cpu, variant);
@@ -182,6 +182,19 @@ fn volumes_built_on_the_gpu_give_the_cpu_paths_images_bit_for_bit() {
                     assert_eq!(differ, 0, "{name} {variant:?}: light {}: {differ} visibility texels differ", c.light);
                 }
                 assert!(cpu.rgba == gpu.rgba, "{name} {variant:?}: the colour images differ");
+                // The counts read back from the GPU are the CPU path's, caster for caster.
+                for (c, g) in cpu.report.lights.iter().zip(&gpu.report.lights) {
+                    let (Some(c), Some(g)) = (&c.shadow_volume, &g.shadow_volume) else {
+                        assert_eq!(c.shadow_volume.is_some(), g.shadow_volume.is_some(), "{name} {variant:?}");
+                        continue;
+                    };
+                    let figures = |v: &umbra::shadows::ShadowVolumeReport| {
+                        let modes: Vec<_> = v.caster_modes.iter().map(|m| (m.object, m.mode, m.triangles)).collect();
+                        (v.casters, v.zpass_casters, v.zfail_casters, v.silhouette_edges, v.volume_triangles, modes)
+                    };
+                    assert_eq!(figures(c), figures(g), "{name} {variant:?}: the reports' counts differ");
+                    counted += g.volume_triangles;
+                }
                 // The GPU path ran its stages, and reports that it built the volumes.
                 let ran = |id: fn(usize) -> PassId| gpu.report.passes.iter().any(|p| (0..8).any(|l| p.id == id(l)));
                 let volumes =
@@ -196,7 +209,9 @@ fn volumes_built_on_the_gpu_give_the_cpu_paths_images_bit_for_bit() {
         }
         println!(
             "{scenes} scenes ({lights} lights), shadow volumes in auto and z-fail and the hybrid (the device's \
-             mask; the stencil mask with blocker culling): volumes built on the GPU, images identical"
+             mask; the stencil mask with blocker culling): volumes built on the GPU, images identical; \
+             {counted} volume triangles counted on the GPU, as on the CPU"
         );
+        assert!(counted > 0, "no volume triangle counted");
     });
 }

@@ -4,6 +4,7 @@
 // d = n·L.xyz − (n·a)·L.w with n = (b − a) × (c − a), in the caster's object space. Every
 // operation in the order `umbra_scene::facing` does it in f32, and `precise` (no
 // contraction into fused multiply-adds), so a light in the plane of a face classifies alike.
+// An open caster's faces edge-on to the light are counted into its job's counts.
 #define VOLUME_WRITES
 #include "shadow_volume/gpu_volume.glsl"
 
@@ -31,4 +32,10 @@ void main() {
     precise float towards_vertex = n.x * a.x + n.y * a.y + n.z * a.z;
     precise float d = towards_light - towards_vertex * l.w;
     facing[j.facing + t] = d > 0.0 ? FACING_TOWARDS : (d < 0.0 ? FACING_AWAY : FACING_EDGE_ON);
+    // An open caster's edge-on face makes no cap: counted for the report (rare, so one atomic
+    // each costs nothing).
+    bool degenerate = tri.x == tri.y || tri.y == tri.z || tri.x == tri.z;
+    if (d == 0.0 && j.closed == 0u && !degenerate) {
+        atomicAdd(volume_draws[JOB_DRAWS * push.job + 1u].x, 1u);
+    }
 }

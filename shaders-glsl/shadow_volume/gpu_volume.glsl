@@ -26,7 +26,7 @@ struct VolumeJob {
     uint facing;         // its first entry in `facing` (one per triangle)
     uint list;           // its first entry in `silhouettes`
     uint closed;         // 1: a closed 2-manifold mesh (umbra_scene::TopologyReport::closed)
-    uint pad;
+    uint faces;          // its mesh's triangles with three distinct vertices (the caps' source)
 };
 
 // How a triangle faces the light (umbra_scene::Facing).
@@ -69,8 +69,11 @@ layout(set = VOLUME_SET, binding = 6, std430) VOLUME_WRITTEN buffer VolumeSilhou
     uint silhouettes[];
 };
 
-// Per job a VkDrawIndirectCommand of its side triangles: x vertices (6 per silhouette edge),
-// y instances (1), z first vertex (6 * job.list), w first instance (0).
+// Per job JOB_DRAWS entries: at JOB_DRAWS * job a VkDrawIndirectCommand of its side triangles:
+// x vertices (6 per silhouette edge), y instances (1), z first vertex (6 * job.list), w first
+// instance (0); after it the job's counts for the report: x its faces edge-on to the light (an
+// open caster's, which make no cap; counted by classify.comp), y, z, w 0.
+const uint JOB_DRAWS = 2u;
 layout(set = VOLUME_SET, binding = 7, std430) VOLUME_WRITTEN buffer VolumeDraws {
     uvec4 volume_draws[];
 };

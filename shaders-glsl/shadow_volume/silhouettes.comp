@@ -37,7 +37,7 @@ void main() {
         return;
     }
     uint count = uint(abs(net));
-    uint first = atomicAdd(volume_draws[push.job].x, 6u * count) / 6u;
+    uint first = atomicAdd(volume_draws[JOB_DRAWS * push.job].x, 6u * count) / 6u;
     uint entry = (e << 1) | (net > 0 ? 0u : 1u);
     for (uint k = 0u; k < count; ++k) {
         silhouettes[j.list + first + k] = entry;

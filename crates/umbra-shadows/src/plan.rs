@@ -329,8 +329,10 @@ pub struct ShadowVolumeReport {
     /// Per caster: object index, name and the mode it was counted with.
     pub caster_modes: Vec<CasterMode>,
     /// Whether the volumes were built on the GPU (`VolumeBuild::Gpu`): the host only named the
-    /// casters, so `silhouette_edges` and `volume_triangles` are not counted (0) and
-    /// `cpu_build_ms` is the naming's time.
+    /// casters (`cpu_build_ms` is the naming's time). The renderer's own frames read the
+    /// counts back from the GPU after the frame (`volume counts readback`), so `casters`,
+    /// `silhouette_edges`, `volume_triangles` and `caster_modes` are those of the CPU path;
+    /// `count_batches` is planned on the host from bounds on every named caster.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub gpu_built: bool,
 }

@@ -26,6 +26,12 @@ pub enum PassId {
     /// Shadow volumes built on the GPU: the meshes an engine deforms on the GPU copied into the
     /// volumes' positions, once a frame.
     VolumePositions,
+    /// Shadow volumes built on the GPU: every job's indirect draw and counts set to their
+    /// initial values, once a frame.
+    VolumeDrawsReset,
+    /// Shadow volumes built on the GPU: every job's draw and counts copied out for the report
+    /// (umbra's own frames).
+    VolumeCounts,
     /// Shadow volumes built on the GPU: how each caster's triangles face the light.
     VolumeClassify(usize),
     /// Shadow volumes built on the GPU: each caster's silhouette edges, listed for its draw.
@@ -96,6 +102,8 @@ impl PassId {
             PassId::DepthRebuild => "depth rebuild".into(),
             PassId::GBuffer => "g-buffer".into(),
             PassId::VolumePositions => "volume positions".into(),
+            PassId::VolumeDrawsReset => "volume draws reset".into(),
+            PassId::VolumeCounts => "volume counts readback".into(),
             PassId::VolumeClassify(l) => format!("volume classify {l}"),
             PassId::VolumeSilhouettes(l) => format!("volume silhouettes {l}"),
             PassId::ShadowVolume(l) => format!("shadow_volume {l}"),
@@ -134,6 +142,8 @@ impl PassId {
             | PassId::DepthRebuild
             | PassId::GBuffer
             | PassId::VolumePositions
+            | PassId::VolumeDrawsReset
+            | PassId::VolumeCounts
             | PassId::Readback
             | PassId::RayStatsReset
             | PassId::RayStatsReadback
@@ -173,6 +183,7 @@ impl PassId {
             PassId::GBuffer
                 | PassId::MaskedVolumeFragments(_)
                 | PassId::HybridRayCount(_)
+                | PassId::VolumeCounts
                 | PassId::HybridDiagnostics(_)
                 | PassId::LightDiagnostics(_)
                 | PassId::VolumeOverdraw(_)
@@ -198,6 +209,8 @@ mod tests {
             PassId::MeshUpload,
             PassId::GBuffer,
             PassId::VolumePositions,
+            PassId::VolumeDrawsReset,
+            PassId::VolumeCounts,
             PassId::Readback,
             PassId::HandOff,
             PassId::RayStatsReset,
@@ -254,7 +267,7 @@ mod tests {
     #[test]
     fn diagnostic_passes_are_the_views_only() {
         let diagnostic: Vec<String> = every_pass().iter().filter(|p| p.diagnostic()).map(|p| p.name()).collect();
-        assert_eq!(diagnostic.len(), 3 + 8 * 2, "{diagnostic:?}");
+        assert_eq!(diagnostic.len(), 4 + 8 * 2, "{diagnostic:?}");
         for p in [PassId::Ambient, PassId::ShadowMap(0), PassId::MapVisibility(0), PassId::HybridVolumes(0)] {
             assert!(!p.diagnostic(), "{p:?} is part of the technique's cost");
         }

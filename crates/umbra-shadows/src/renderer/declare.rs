@@ -170,18 +170,21 @@ impl Renderer {
     }
 
     /// The renderer's own lights, after every light's shadows (`queries`, from
-    /// `declare_shadows`): every recorded light's lighting, then `readback`.
+    /// `declare_shadows`): the volume counts read back, every recorded light's lighting, then
+    /// `readback`. Whether the volume counts are read back.
     pub(super) fn declare_lights<'a>(
         &'a self,
         stage: &mut Stage<'a>,
         f: FrameInputs<'a>,
         queries: &[LightQueries],
         overdraw: bool,
-    ) -> RenderResult<()> {
+    ) -> RenderResult<bool> {
+        let counted = self.declare_volume_counts(stage, f);
         for light in f.lights.iter().filter(|l| l.plan.recorded && f.bindings[l.light()].shadow_set.is_some()) {
             self.declare_light(stage, f, light, queries[light.light()].shadowed)?;
         }
-        self.declare_readback(stage, overdraw)
+        self.declare_readback(stage, overdraw)?;
+        Ok(counted)
     }
 
     /// Every recorded light's shadows, before any light is lit: its visibility image (and its
@@ -195,7 +198,7 @@ impl Renderer {
         let mut queries = vec![LightQueries::default(); f.lights.len()];
         let mut overdraw = false;
         let stats = self.declare_ray_stats_reset(stage, f);
-        self.declare_volume_positions(stage, f);
+        self.declare_volume_frame(stage, f);
         for light in f.lights.iter().filter(|l| l.plan.recorded) {
             let l = light.light();
             let Some(shadow_set) = &f.bindings[l].shadow_set else { continue };
@@ -281,7 +284,7 @@ impl Renderer {
         let l = light.light();
         let source = match volumes.gpu {
             Some(_) => {
-                let (g, slot) = self.declare_gpu_stages(stage, f, light, volumes)?;
+                let (g, slot) = self.declare_gpu_stages(stage, light, volumes)?;
                 VolumeSource::Gpu(g, slot)
             }
             None => VolumeSource::Host(f.volumes),
@@ -375,7 +378,7 @@ impl Renderer {
         volumes: &'a LightVolumes,
     ) -> RenderResult<()> {
         let (l, bounds) = (light.light(), light_bounds(light));
-        let (g, slot) = self.declare_gpu_stages(stage, f, light, volumes)?;
+        let (g, slot) = self.declare_gpu_stages(stage, light, volumes)?;
         let reads = VolumeSource::Gpu(g, slot).reads();
         self.declare_stencil_counts(stage, f, light, reads, move |rec, log| {
             let fold = self.shadow_volume.fold();
@@ -406,29 +409,53 @@ impl Renderer {
         self.declare_stencil_resolve(stage, f, light)
     }
 
-    /// `volume positions`: the meshes an engine deforms on the GPU copied into the volumes'
-    /// positions (`shadow_volume/deform.rs`), once a frame before any light's volumes are
-    /// built on the GPU; nothing when no mesh deforms or no light builds volumes.
-    fn declare_volume_positions<'a>(&'a self, stage: &mut Stage<'a>, f: FrameInputs<'a>) {
+    /// The frame's passes before any light's volumes are built on the GPU, when a light builds
+    /// them: `volume positions`, the meshes an engine deforms on the GPU copied into the
+    /// volumes' positions (`shadow_volume/deform.rs`), and `volume draws reset`, every job's
+    /// draw and counts set from their initial values.
+    fn declare_volume_frame<'a>(&'a self, stage: &mut Stage<'a>, f: FrameInputs<'a>) {
         let Some(g) = self.gpu_volumes.as_ref() else { return };
-        let Some(positions) = g.deformed_positions() else { return };
-        let built = |l: &LightFrame| l.plan.recorded && l.volumes.as_ref().is_some_and(|v| v.gpu.is_some());
-        if !f.lights.iter().any(built) {
+        if !f.lights.iter().any(builds_on_gpu) {
             return;
         }
-        stage.pass(PassId::VolumePositions, &[Use::Buffer(positions, BufferState::ComputeStorage)], move |cx| {
-            g.record_deform(cx.rec);
-            Ok(())
-        });
+        if let Some(positions) = g.deformed_positions() {
+            stage.pass(PassId::VolumePositions, &[Use::Buffer(positions, BufferState::ComputeStorage)], move |cx| {
+                g.record_deform(cx.rec);
+                Ok(())
+            });
+        }
+        if let (Some(init), Some((_, _, draws))) = (f.volume_resets, g.written()) {
+            stage.pass(PassId::VolumeDrawsReset, &[Use::Buffer(draws, BufferState::TransferDst)], move |cx| {
+                g.record_reset(cx.rec, init);
+                Ok(())
+            });
+        }
     }
 
-    /// The GPU's build of a light's volumes: `volume classify N` (the frame's first such light
-    /// also resets every job's draw) and `volume silhouettes N`. Returns the path and the
-    /// frame slot's set its counting draws bind.
+    /// `volume counts readback` (the renderer's own frames, after every light's shadows): the
+    /// draws and counts of the volumes built on the GPU copied out for the report. Whether it
+    /// was declared.
+    fn declare_volume_counts<'a>(&'a self, stage: &mut Stage<'a>, f: FrameInputs<'a>) -> bool {
+        let Some(g) = self.gpu_volumes.as_ref() else { return false };
+        let (Some((_, _, draws)), Some(out)) = (g.written(), g.counts_readback()) else { return false };
+        let jobs = f.lights.iter().filter(|l| builds_on_gpu(l)).filter_map(|l| l.volumes.as_ref()?.gpu.as_ref());
+        let Some(count) = jobs.map(|(first, jobs)| first + jobs.len()).max() else { return false };
+        stage.pass(
+            PassId::VolumeCounts,
+            &[Use::Buffer(draws, BufferState::TransferSrc), Use::Readback(out)],
+            move |cx| {
+                g.record_counts_readback(cx.rec, count);
+                Ok(())
+            },
+        );
+        true
+    }
+
+    /// The GPU's build of a light's volumes: `volume classify N` and `volume silhouettes N`.
+    /// Returns the path and the frame slot's set its counting draws bind.
     fn declare_gpu_stages<'a>(
         &'a self,
         stage: &mut Stage<'a>,
-        f: FrameInputs<'a>,
         light: &'a LightFrame,
         volumes: &'a LightVolumes,
     ) -> RenderResult<(&'a GpuVolumes, &'a SlotVolumes)> {
@@ -440,13 +467,11 @@ impl Renderer {
         let g = self.gpu_volumes.as_ref().ok_or_else(|| missing("the GPU path"))?;
         let slot = self.slot.volumes.as_ref().ok_or_else(|| missing("the volumes' set"))?;
         let (facing, list, draws) = g.written().ok_or_else(|| missing("the volumes' buffers"))?;
-        let reset = f.volume_resets.filter(|_| volumes.gpu.as_ref().is_some_and(|(first, _)| *first == 0));
         let storage = BufferState::ComputeStorage;
-        let mut uses = vec![Use::Buffer(facing, storage)];
-        uses.extend(reset.map(|_| Use::Buffer(draws, BufferState::TransferDst)));
+        let mut uses = vec![Use::Buffer(facing, storage), Use::Buffer(draws, storage)];
         uses.extend(g.deformed_positions().map(|p| Use::Buffer(p, BufferState::ComputeRead)));
         stage.pass(PassId::VolumeClassify(l), &uses, move |cx| {
-            g.record_classify(cx.rec, slot, volumes, reset);
+            g.record_classify(cx.rec, slot, volumes);
             Ok(())
         });
         let uses = [Use::Buffer(facing, storage), Use::Buffer(list, storage), Use::Buffer(draws, storage)];
@@ -685,4 +710,9 @@ pub(super) fn light_bounds(light: &LightFrame) -> PassBounds {
 pub(super) fn over_surfaces<'a>(rec: &mut Recorder<'a>, image: &'a Image, clear: Option<[f32; 4]>, depth: &'a Image) {
     let color = [ColorAttachment { image, clear }];
     rec.begin_rendering(&RenderTargets { color: &color, depth: Some(DepthAttachment::keep(depth)) });
+}
+
+/// Whether a light's volumes are built on the GPU this frame.
+fn builds_on_gpu(light: &LightFrame) -> bool {
+    light.plan.recorded && light.volumes.as_ref().is_some_and(|v| v.gpu.is_some())
 }

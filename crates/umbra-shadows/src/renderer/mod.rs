@@ -155,7 +155,8 @@ impl Renderer {
         };
         let shadow_volume =
             ShadowVolumePass::new(ctx, &layout, depth_format, &desc.shadow_volume, bounds, volume_input)?;
-        let gpu_volumes = gpu_volumes(ctx, &desc, &scene_set_layout, depth_format, volume_input, bounds)?;
+        let gpu_volumes =
+            gpu_volumes(ctx, &desc, &scene_set_layout, depth_format, volume_input, bounds, own.is_some())?;
         let silhouette_map = SilhouetteMapPass::new(ctx, &layout, COLOR_FORMAT, depth_format, &desc.shadow_map)?;
         let clamp = desc.shadow_volume.far_plane == FarPlane::DepthClamp;
         let hybrid =
@@ -354,7 +355,8 @@ fn no_targets() -> crate::RenderError {
 
 /// The GPU path of shadow volumes, when `desc` asks for it: refused (naming the setting) where
 /// the device needs volumes clipped on the host, with the overdraw diagnostic, or on a
-/// graphics queue that runs no compute.
+/// graphics queue that runs no compute. With `own` (the renderer's own frames) the counts are
+/// read back for the report.
 fn gpu_volumes(
     ctx: &Context,
     desc: &RendererDesc,
@@ -362,6 +364,7 @@ fn gpu_volumes(
     depth_format: vk::Format,
     input: VolumeInput,
     bounds: bool,
+    own: bool,
 ) -> RenderResult<Option<crate::shadow_volume::gpu_frame::GpuVolumes>> {
     let settings = &desc.shadow_volume;
     if settings.build != crate::VolumeBuild::Gpu {
@@ -382,5 +385,7 @@ fn gpu_volumes(
         return refuse(&format!("needs compute on the graphics queue, which {} lacks", ctx.capabilities().device_name));
     }
     let clamp = settings.far_plane == FarPlane::DepthClamp;
-    Ok(Some(crate::shadow_volume::gpu_frame::GpuVolumes::new(ctx, scene_set_layout, depth_format, clamp, bounds)?))
+    let volumes =
+        crate::shadow_volume::gpu_frame::GpuVolumes::new(ctx, scene_set_layout, depth_format, clamp, bounds, own)?;
+    Ok(Some(volumes))
 }

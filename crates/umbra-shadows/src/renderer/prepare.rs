@@ -253,8 +253,7 @@ impl Renderer {
             light.volumes = Some(v);
         }
         if let (Some(g), false) = (self.gpu_volumes.as_mut(), jobs.is_empty()) {
-            let resets: Vec<[u32; 4]> = jobs.iter().map(|j| [0, 1, 6 * j.list, 0]).collect();
-            streams.volume_draws.fill(&self.ctx, &resets)?;
+            streams.volume_draws.fill(&self.ctx, &crate::shadow_volume::gpu::draw_resets(&jobs))?;
             let retired = &mut self.slot.retired;
             g.prepare_written(&self.ctx, u64::from(next.0), u64::from(next.1), jobs.len() as u64, retired)?;
             streams.volume_jobs.fill(&self.ctx, &jobs)?;

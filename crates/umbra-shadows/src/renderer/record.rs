@@ -39,6 +39,8 @@ pub(super) struct FrameRun {
     pub queries: Vec<LightQueries>,
     /// Whether a pass drew into the overdraw image.
     pub overdraw: bool,
+    /// Whether the GPU-built volumes' counts were copied out (`volume counts readback`).
+    pub volume_counts: bool,
 }
 
 /// A frame, recorded (and, the renderer's own, run).
@@ -183,15 +185,15 @@ impl Renderer {
         let (queries, overdraw) = self.declare_shadows(&mut stage, f)?;
         match out {
             Output::Own => {
-                self.declare_lights(&mut stage, f, &queries, overdraw)?;
+                let volume_counts = self.declare_lights(&mut stage, f, &queries, overdraw)?;
                 stages.push(graph.run(&self.ctx, stage)?);
-                Ok(FrameRun { stages, recorded: Vec::new(), queries, overdraw })
+                Ok(FrameRun { stages, recorded: Vec::new(), queries, overdraw, volume_counts })
             }
             Output::Engine { cmd, .. } => {
                 stage.pass(PassId::HandOff, &self.hand_off(f.lights, handed_over, &queries)?, |_| Ok(()));
                 let mut rec = self.ctx.record_into(cmd);
                 let recorded = graph.record(&self.ctx, &mut rec, stage)?.into_passes();
-                Ok(FrameRun { stages, recorded, queries, overdraw })
+                Ok(FrameRun { stages, recorded, queries, overdraw, volume_counts: false })
             }
         }
     }

@@ -42,9 +42,16 @@ impl Renderer {
         let mut diagnostics = Vec::new();
         let mut visibility = Vec::new();
         let mut plans = Vec::with_capacity(lights.len());
+        let volume_counts = match (&self.gpu_volumes, run.volume_counts) {
+            (Some(g), true) => g.read_counts()?,
+            _ => Vec::new(),
+        };
         for light in &lights {
             let mut plan = light.plan.clone();
             let queries = run.queries[light.light()];
+            if let (Some(v), false) = (&light.volumes, volume_counts.is_empty()) {
+                plan.shadow_volume = Some(v.counted_report(scene, &volume_counts));
+            }
             if let (Some(r), Some(_)) = (plan.shadow_volume.as_mut(), &self.overdraw) {
                 // Volumes built, none with a triangle: nothing was rasterized.
                 r.volume_fragments = Some(queries.volume_fragments.map_or(0, samples));

@@ -55,27 +55,55 @@ impl LightVolumes {
         self.batches = super::batches::count_batches(&self.casters, bits);
     }
 
-    /// The report of these volumes (`volume_fragments` is filled in once counted).
+    /// The report of these volumes (`volume_fragments` is filled in once counted; built on the
+    /// GPU, the counts are 0 until [`Self::counted_report`]).
     pub fn report(&self, scene: &Scene) -> ShadowVolumeReport {
+        self.report_with(scene, |c| Some((c.stats.silhouette_edges, c.count as usize / 3)))
+    }
+
+    /// The report of volumes built on the GPU, with their counts from the draws buffer's
+    /// `words` as read back (`gpu::JobCounts`): as the CPU path reports them, casters whose
+    /// volume is empty left out.
+    pub fn counted_report(&self, scene: &Scene, words: &[u32]) -> ShadowVolumeReport {
+        let Some((first, jobs)) = &self.gpu else { return self.report(scene) };
+        self.report_with(scene, |c| {
+            let job = c.job?;
+            let counts =
+                super::gpu::JobCounts::read(words, jobs.get((job as usize).wrapping_sub(*first))?, job as usize);
+            let caps = if c.counting == Counting::ZFail { counts.cap_triangles } else { 0 };
+            let triangles = (2 * counts.silhouette_edges + caps) as usize;
+            (triangles > 0).then_some((counts.silhouette_edges as usize, triangles))
+        })
+    }
+
+    /// The report, with each caster's silhouette edges and volume triangles from `counts`
+    /// (`None`: an empty volume, left out).
+    fn report_with(
+        &self,
+        scene: &Scene,
+        counts: impl Fn(&CasterVolume) -> Option<(usize, usize)>,
+    ) -> ShadowVolumeReport {
         let mode = |c: Counting| if c == Counting::ZPass { "zpass" } else { "zfail" };
+        let casters: Vec<(&CasterVolume, (usize, usize))> =
+            self.casters.iter().filter_map(|c| Some((c, counts(c)?))).collect();
+        let with = |mode: Counting| casters.iter().filter(|(c, _)| c.counting == mode).count();
         ShadowVolumeReport {
-            casters: self.casters.len(),
-            zpass_casters: self.casters.iter().filter(|c| c.counting == Counting::ZPass).count(),
-            zfail_casters: self.casters.iter().filter(|c| c.counting == Counting::ZFail).count(),
-            silhouette_edges: self.casters.iter().map(|c| c.stats.silhouette_edges).sum(),
-            volume_triangles: self.casters.iter().map(|c| c.count as usize / 3).sum(),
+            casters: casters.len(),
+            zpass_casters: with(Counting::ZPass),
+            zfail_casters: with(Counting::ZFail),
+            silhouette_edges: casters.iter().map(|(_, (edges, _))| edges).sum(),
+            volume_triangles: casters.iter().map(|(_, (_, triangles))| triangles).sum(),
             host_clipped: self.host_clipped,
             count_batches: self.batches.len(),
             cpu_build_ms: self.cpu_ms,
             volume_fragments: None,
-            caster_modes: self
-                .casters
+            caster_modes: casters
                 .iter()
-                .map(|c| CasterMode {
+                .map(|(c, (_, triangles))| CasterMode {
                     object: c.object,
                     name: scene.objects.get(c.object).map(|o| o.name.clone()).unwrap_or_default(),
                     mode: mode(c.counting),
-                    triangles: c.count as usize / 3,
+                    triangles: *triangles,
                 })
                 .collect(),
             gpu_built: self.gpu.is_some(),

@@ -45,7 +45,43 @@ pub(crate) struct VolumeJob {
     pub list: u32,
     /// 1 for a closed 2-manifold mesh.
     pub closed: u32,
-    pub pad: u32,
+    /// Its mesh's triangles with three distinct vertices (the caps' source).
+    pub faces: u32,
+}
+
+/// `u32` words per job in the draws buffer (`JOB_DRAWS` uvec4s in `gpu_volume.glsl`): the
+/// sides' `VkDrawIndirectCommand`, then the job's counts.
+pub(crate) const DRAW_WORDS: usize = 8;
+
+/// Bytes per job in the draws buffer: job `j`'s side draw is at `DRAW_STRIDE * j`.
+pub(crate) const DRAW_STRIDE: u64 = 4 * DRAW_WORDS as u64;
+
+/// The draws buffer's value before the stages run: per job no side vertex yet, from its list's
+/// first vertex, and no count.
+pub(crate) fn draw_resets(jobs: &[VolumeJob]) -> Vec<[u32; DRAW_WORDS]> {
+    jobs.iter().map(|j| [0, 1, 6 * j.list, 0, 0, 0, 0, 0]).collect()
+}
+
+/// What the stages counted for one job, read back from the draws buffer.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct JobCounts {
+    /// Silhouette edges listed, with multiplicity.
+    pub silhouette_edges: u32,
+    /// Cap triangles its z-fail draw makes: a closed caster's faces, an open caster's faces
+    /// not edge-on to the light, twice (as `umbra_scene::Volume::build` makes them).
+    pub cap_triangles: u32,
+}
+
+impl JobCounts {
+    /// Job `job`'s counts in the draws buffer's `words`.
+    pub fn read(words: &[u32], job: &VolumeJob, index: usize) -> Self {
+        let at = |k: usize| words.get(DRAW_WORDS * index + k).copied().unwrap_or(0);
+        let cap_triangles = match job.closed {
+            0 => 2 * job.faces.saturating_sub(at(4)),
+            _ => job.faces,
+        };
+        Self { silhouette_edges: at(0) / 6, cap_triangles }
+    }
 }
 
 /// Where one mesh lies in the [`AdjacencyArrays`].
@@ -56,6 +92,8 @@ pub(crate) struct MeshRange {
     pub edges: u32,
     pub edge_count: u32,
     pub closed: bool,
+    /// Triangles with three distinct vertices.
+    pub faces: u32,
     /// Faces over all its edges: the most silhouette entries one light can give it.
     pub list_bound: u32,
 }
@@ -82,6 +120,7 @@ impl AdjacencyArrays {
                 edges: out.edges.len() as u32,
                 edge_count: adj.edges.len() as u32,
                 closed: adj.report.closed,
+                faces: (adj.report.triangles - adj.report.degenerate_triangles) as u32,
                 list_bound: adj.edges.iter().map(|e| e.faces.len() as u32).sum(),
             };
             out.positions.extend(adj.positions.iter().map(|p| p.extend(1.0).to_array()));
@@ -118,7 +157,7 @@ impl MeshRange {
             facing,
             list,
             closed: u32::from(self.closed),
-            pad: 0,
+            faces: self.faces,
         }
     }
 }
@@ -189,13 +228,13 @@ impl GpuSilhouettes {
             gpu_jobs.push(job);
         }
         let run = self.buffers(ctx, &arrays, &gpu_jobs, facing, list)?;
-        let draws_bytes = 16 * gpu_jobs.len().max(1) as u64;
+        let draws_bytes = DRAW_STRIDE * gpu_jobs.len().max(1) as u64;
         let draws_out = Buffer::new(ctx, "gpu shadow volume draws readback", BufferDesc::readback(draws_bytes))?;
         let list_out = Buffer::new(ctx, "gpu shadow volume list readback", BufferDesc::readback(run.list.desc.size))?;
         let mut rec = ctx.begin_commands("gpu shadow volume silhouettes")?;
-        let init: Vec<u32> = gpu_jobs.iter().flat_map(|j| [0, 1, 6 * j.list, 0]).collect();
+        let init = draw_resets(&gpu_jobs);
         if !init.is_empty() {
-            rec.update_buffer(&run.draws, &init);
+            rec.update_buffer(&run.draws, bytemuck::cast_slice::<_, u32>(&init));
         }
         rec.buffer_transition(&[(&run.draws, BufferState::TransferDst, BufferState::ComputeStorage)]);
         self.record(&mut rec, &run.set, &run.facing, &gpu_jobs);
@@ -215,7 +254,7 @@ impl GpuSilhouettes {
             .zip(&gpu_jobs)
             .enumerate()
             .map(|(i, (&(mesh, _), job))| {
-                let count = draws.get(4 * i).copied().unwrap_or(0) / 6;
+                let count = JobCounts::read(&draws, job, i).silhouette_edges;
                 let range = job.list as usize..(job.list + count) as usize;
                 let edges = &meshes[mesh].edges;
                 entries
@@ -319,8 +358,11 @@ impl GpuSilhouettes {
         let copy = vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST;
         let facing = written("gpu shadow volume facing", 4 * u64::from(facing), vk::BufferUsageFlags::empty())?;
         let list = written("gpu shadow volume silhouettes", 4 * u64::from(list), copy)?;
-        let draws =
-            written("gpu shadow volume draws", 16 * jobs.len() as u64, copy | vk::BufferUsageFlags::INDIRECT_BUFFER)?;
+        let draws = written(
+            "gpu shadow volume draws",
+            DRAW_STRIDE * jobs.len() as u64,
+            copy | vk::BufferUsageFlags::INDIRECT_BUFFER,
+        )?;
         let resources: Vec<Resource> = arrays.iter().chain([&facing, &list, &draws]).map(Resource::Buffer).collect();
         let set = DescriptorSet::new(ctx, "gpu shadow volume", &self.set_layout, &resources)?;
         Ok(RunBuffers { _arrays: arrays, facing, list, draws, set })

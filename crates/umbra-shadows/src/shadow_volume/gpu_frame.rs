@@ -1,10 +1,15 @@
-//! The renderer's shadow volumes built on the GPU ([`crate::VolumeBuild::Gpu`]), per light:
-//! 1. `volume classify N` (`classify.comp`), every caster's triangles' facing; the first light's
-//!    pass also resets every job's indirect draw (zero vertices, its list's first vertex);
+//! The renderer's shadow volumes built on the GPU ([`crate::VolumeBuild::Gpu`]): once a frame
+//! `volume draws reset` sets every job's indirect draw (zero vertices, its list's first vertex)
+//! and counts from the frame slot's initial values; then per light:
+//! 1. `volume classify N` (`classify.comp`), every caster's triangles' facing;
 //! 2. `volume silhouettes N` (`silhouettes.comp`), every caster's silhouette list and draw;
 //! 3. `shadow_volume N`, the counting draws: per caster its sides from its list, drawn
 //!    indirectly (`gpu_sides.vert`), and in z-fail its caps from its mesh's triangles and their
 //!    facing (`gpu_caps.vert`), with the counting pipelines and batches of the CPU path.
+//!
+//! In the renderer's own frames `volume counts readback` copies the draws out after every
+//! light's shadows: the report's silhouette edges and volume triangles
+//! ([`super::gpu::JobCounts`]).
 //!
 //! The adjacency arrays are uploaded when the scene's meshes change; the facing, lists and
 //! draws live on the GPU only, sized for the largest frame so far; the jobs and the draws'
@@ -13,7 +18,7 @@
 use super::batches::{record_in_batches, CountBits, FULL_STENCIL};
 use super::build::{Counting, LightVolumes};
 use super::deform::{DeformCopies, DeformPipeline};
-use super::gpu::{AdjacencyArrays, GpuSilhouettes, MeshRange};
+use super::gpu::{AdjacencyArrays, GpuSilhouettes, MeshRange, DRAW_STRIDE};
 use super::pass::{Counting4, VolumeInput};
 use crate::forward::PassBounds;
 use crate::gpu_scene::GpuScene;
@@ -56,6 +61,8 @@ struct Written {
     facing: Buffer,
     list: Buffer,
     draws: Buffer,
+    /// The draws copied out for the report (the renderer's own frames).
+    readback: Option<Buffer>,
 }
 
 /// A frame slot's set over the arrays, its jobs and what the stages write.
@@ -78,16 +85,20 @@ pub(crate) struct GpuVolumes {
     written: Option<Written>,
     /// Counts new arrays or written buffers (a slot's set over older ones is made again).
     generation: u64,
+    /// Whether the draws are read back for the report (the renderer's own frames).
+    read_counts: bool,
 }
 
 impl GpuVolumes {
-    /// The stages and the counting pipelines (against the scene's set and the stages' set).
+    /// The stages and the counting pipelines (against the scene's set and the stages' set);
+    /// with `read_counts`, a readback of the draws for the report.
     pub fn new(
         ctx: &Context,
         scene_set_layout: &DescriptorSetLayout,
         depth_format: vk::Format,
         clamp: bool,
         depth_bounds: bool,
+        read_counts: bool,
     ) -> RenderResult<Self> {
         let stages = GpuSilhouettes::new(ctx)?;
         let push = std::mem::size_of::<JobPush>() as u32;
@@ -100,7 +111,8 @@ impl GpuVolumes {
         let masked = |input| MaskedCounting::new(ctx, &layout, depth_format, clamp, has_bounds, input);
         let hybrid = [masked(VolumeInput::GpuSides)?, masked(VolumeInput::GpuCaps)?];
         let deform = DeformPipeline::new(ctx)?;
-        Ok(Self { stages, layout, sides, caps, hybrid, deform, arrays: None, written: None, generation: 0 })
+        let (arrays, written, generation) = (None, None, 0);
+        Ok(Self { stages, layout, sides, caps, hybrid, deform, arrays, written, generation, read_counts })
     }
 
     /// Every mesh's place in the arrays (after [`Self::prepare`]).
@@ -181,12 +193,20 @@ impl GpuVolumes {
         let sizes = (facing.max(old.0).max(4), list.max(old.1).max(4), jobs.max(old.2).max(1));
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let make = |name: &str, bytes: u64, usage| Buffer::new(ctx, name, BufferDesc::gpu_only(bytes, storage | usage));
-        let draws_usage = vk::BufferUsageFlags::INDIRECT_BUFFER | vk::BufferUsageFlags::TRANSFER_DST;
+        let draws_usage = vk::BufferUsageFlags::INDIRECT_BUFFER
+            | vk::BufferUsageFlags::TRANSFER_DST
+            | vk::BufferUsageFlags::TRANSFER_SRC;
+        let draws_bytes = DRAW_STRIDE * sizes.2;
+        let readback = match self.read_counts {
+            true => Some(Buffer::new(ctx, "gpu shadow volume counts readback", BufferDesc::readback(draws_bytes))?),
+            false => None,
+        };
         self.written = Some(Written {
             sizes,
             facing: make("gpu shadow volume facing", 4 * sizes.0, vk::BufferUsageFlags::empty())?,
             list: make("gpu shadow volume silhouettes", 4 * sizes.1, vk::BufferUsageFlags::empty())?,
-            draws: make("gpu shadow volume draws", 16 * sizes.2, draws_usage)?,
+            draws: make("gpu shadow volume draws", draws_bytes, draws_usage)?,
+            readback,
         });
         self.generation += 1;
         Ok(())
@@ -220,20 +240,40 @@ impl GpuVolumes {
         Ok(())
     }
 
-    /// Stage 1 for a light's jobs; with `reset` (the frame's first light) every job's draw is
-    /// first set from the slot's `init` (the draws in TransferDst).
-    pub fn record_classify<'a>(
-        &'a self,
-        rec: &mut Recorder<'a>,
-        slot: &'a SlotVolumes,
-        volumes: &LightVolumes,
-        reset: Option<&'a Buffer>,
-    ) {
-        let (Some(w), Some((first, jobs))) = (&self.written, &volumes.gpu) else { return };
-        if let Some(init) = reset {
+    /// `volume draws reset`: every job's draw and counts set from the slot's `init` (the draws
+    /// in TransferDst).
+    pub fn record_reset<'a>(&'a self, rec: &mut Recorder<'a>, init: &'a Buffer) {
+        if let Some(w) = &self.written {
             rec.copy_buffer(init, &w.draws, init.desc.size.min(w.draws.desc.size));
         }
-        self.stages.record_classify(rec, &slot.set, *first, jobs);
+    }
+
+    /// The draws' readback (with `read_counts`, after [`Self::prepare_written`]).
+    pub fn counts_readback(&self) -> Option<&Buffer> {
+        self.written.as_ref().and_then(|w| w.readback.as_ref())
+    }
+
+    /// `volume counts readback`: the frame's `jobs` draws and counts copied out (the draws in
+    /// TransferSrc).
+    pub fn record_counts_readback<'a>(&'a self, rec: &mut Recorder<'a>, jobs: usize) {
+        if let Some((w, out)) = self.written.as_ref().and_then(|w| Some((w, w.readback.as_ref()?))) {
+            rec.copy_buffer(&w.draws, out, (DRAW_STRIDE * jobs as u64).min(out.desc.size));
+        }
+    }
+
+    /// The draws and counts read back (after a frame that ran `volume counts readback`).
+    pub fn read_counts(&self) -> RenderResult<Vec<u32>> {
+        match self.counts_readback() {
+            Some(out) => Ok(bytemuck::pod_collect_to_vec(&out.read()?)),
+            None => Ok(Vec::new()),
+        }
+    }
+
+    /// Stage 1 for a light's jobs.
+    pub fn record_classify<'a>(&'a self, rec: &mut Recorder<'a>, slot: &'a SlotVolumes, volumes: &LightVolumes) {
+        if let Some((first, jobs)) = &volumes.gpu {
+            self.stages.record_classify(rec, &slot.set, *first, jobs);
+        }
     }
 
     /// Stage 2 for a light's jobs (after their facing).
@@ -318,7 +358,7 @@ impl GpuVolumes {
                         let Some(job) = c.job else { continue };
                         rec.push_constants(&self.layout, &JobPush { object: c.object as u32, view: light, job });
                         match (caps, jobs.get((job as usize).wrapping_sub(*first))) {
-                            (false, _) => rec.draw_indirect(&w.draws, 16 * u64::from(job)),
+                            (false, _) => rec.draw_indirect(&w.draws, DRAW_STRIDE * u64::from(job)),
                             (true, Some(j)) => {
                                 rec.draw_instanced(3 * j.triangle_count, if j.closed != 0 { 1 } else { 2 }, 0);
                                 log.count_draw(u64::from(j.triangle_count));
