@@ -1,7 +1,9 @@
 //! Shadow volumes built on the GPU (issue #26) against the CPU reference implementation: the
 //! GPU's silhouette edges equal the CPU's, edge for edge and with multiplicity, for every
 //! caster and light of every hard case and for the repository's scanned and modelled meshes
-//! under lights all around them (directional and point, one in the plane of a face).
+//! under lights all around them (directional and point, one in the plane of a face); and the
+//! renderer's frames with volumes built on the GPU equal the CPU path's: images, overdraw, and
+//! the report's counts and counting modes (decided on the GPU in auto mode), caster for caster.
 
 mod common;
 
@@ -97,7 +99,7 @@ fn gpu_silhouettes_equal_the_cpu_ones_on_the_assets_under_lights_all_around() {
 /// What the image test renders each scene with: shadow volumes in a counting mode, or the
 /// hybrid (z-fail volumes behind its computation mask) with a mask (`None`: the device's best)
 /// and blocker culling on or off.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 enum Variant {
     Volumes(VolumeMode),
     Hybrid { mask: Option<MaskKind>, cull_blockers: bool },
@@ -113,10 +115,11 @@ const VARIANTS: [Variant; 4] = [
 
 /// `scene` with every light's technique that of `variant`, rendered with volumes built on
 /// `build` (host clipping off on both paths: the GPU path draws unclipped, and so must the path
-/// it is compared with).
+/// it is compared with), with the overdraw diagnostic.
 fn render(ctx: &umbra::vk::Context, scene: &Scene, build: VolumeBuild, variant: Variant) -> Frame {
     let mut desc = RendererDesc::new(256, 192);
     desc.read_visibility = true;
+    desc.shadow_volume.overdraw = true;
     desc.shadow_volume.build = build;
     desc.shadow_volume.host_clip = HostClip::Never;
     let technique = match variant {
@@ -166,7 +169,7 @@ fn image_scenes() -> Vec<(String, Scene)> {
 #[test]
 fn volumes_built_on_the_gpu_give_the_cpu_paths_images_bit_for_bit() {
     common::with_context(|ctx| {
-        let (mut scenes, mut lights, mut counted) = (0, 0, 0);
+        let (mut scenes, mut lights, mut counted, mut modes, mut fragment_lights) = (0, 0, 0, [0; 2], 0);
         for (name, scene) in image_scenes() {
             for variant in VARIANTS {
                 let cpu = render(ctx, &scene, VolumeBuild::Cpu, variant);
@@ -182,18 +185,31 @@ fn volumes_built_on_the_gpu_give_the_cpu_paths_images_bit_for_bit() {
                     assert_eq!(differ, 0, "{name} {variant:?}: light {}: {differ} visibility texels differ", c.light);
                 }
                 assert!(cpu.rgba == gpu.rgba, "{name} {variant:?}: the colour images differ");
-                // The counts read back from the GPU are the CPU path's, caster for caster.
+                assert!(cpu.overdraw == gpu.overdraw, "{name} {variant:?}: the overdraw images differ");
+                // The counts read back from the GPU are the CPU path's, caster for caster, and
+                // so are the volume fragments the overdraw diagnostic counts.
                 for (c, g) in cpu.report.lights.iter().zip(&gpu.report.lights) {
+                    let fragments = |h: &Option<umbra::shadows::HybridReport>| {
+                        h.as_ref().map(|h| (h.volume_fragments, h.masked_volume_fragments))
+                    };
+                    assert_eq!(fragments(&c.hybrid), fragments(&g.hybrid), "{name} {variant:?}: hybrid fragments");
+                    fragment_lights +=
+                        usize::from(g.shadow_volume.as_ref().is_some_and(|v| v.volume_fragments > Some(0)));
                     let (Some(c), Some(g)) = (&c.shadow_volume, &g.shadow_volume) else {
                         assert_eq!(c.shadow_volume.is_some(), g.shadow_volume.is_some(), "{name} {variant:?}");
                         continue;
                     };
                     let figures = |v: &umbra::shadows::ShadowVolumeReport| {
                         let modes: Vec<_> = v.caster_modes.iter().map(|m| (m.object, m.mode, m.triangles)).collect();
-                        (v.casters, v.zpass_casters, v.zfail_casters, v.silhouette_edges, v.volume_triangles, modes)
+                        let counts = (v.casters, v.zpass_casters, v.zfail_casters, v.silhouette_edges);
+                        (counts, v.volume_triangles, v.volume_fragments, modes)
                     };
                     assert_eq!(figures(c), figures(g), "{name} {variant:?}: the reports' counts differ");
                     counted += g.volume_triangles;
+                    if variant == Variant::Volumes(VolumeMode::Auto) {
+                        modes[0] += g.zpass_casters;
+                        modes[1] += g.zfail_casters;
+                    }
                 }
                 // The GPU path ran its stages, and reports that it built the volumes.
                 let ran = |id: fn(usize) -> PassId| gpu.report.passes.iter().any(|p| (0..8).any(|l| p.id == id(l)));
@@ -210,8 +226,13 @@ fn volumes_built_on_the_gpu_give_the_cpu_paths_images_bit_for_bit() {
         println!(
             "{scenes} scenes ({lights} lights), shadow volumes in auto and z-fail and the hybrid (the device's \
              mask; the stencil mask with blocker culling): volumes built on the GPU, images identical; \
-             {counted} volume triangles counted on the GPU, as on the CPU"
+             {counted} volume triangles counted on the GPU, as on the CPU; in auto mode the GPU chose \
+             z-pass for {} casters and z-fail for {}, as the CPU path did; overdraw images and volume \
+             fragments equal ({fragment_lights} lights with fragments)",
+            modes[0], modes[1]
         );
+        assert!(fragment_lights > 0, "no volume fragment counted");
         assert!(counted > 0, "no volume triangle counted");
+        assert!(modes.iter().all(|&m| m > 0), "auto mode should meet both modes: {modes:?}");
     });
 }

@@ -5,6 +5,11 @@
 // operation in the order `umbra_scene::facing` does it in f32, and `precise` (no
 // contraction into fused multiply-adds), so a light in the plane of a face classifies alike.
 // An open caster's faces edge-on to the light are counted into its job's counts.
+//
+// Its first invocation also decides the job's counting mode (§3.4): z-pass unless the caster's
+// box may touch the near-plane clip region, whose planes the host gives, tested in f32 as
+// `NearRegion::may_touch` in build.rs does (same operations, `precise`); a z-fail caster's
+// caps draw gets its triangles.
 #define VOLUME_WRITES
 #include "shadow_volume/gpu_volume.glsl"
 
@@ -14,9 +19,44 @@ layout(push_constant) uniform Push {
     uint job;
 } push;
 
+// Whether the job's box may touch its near-plane clip region (false: certainly not).
+bool may_touch_near_region(VolumeJob j) {
+    if (j.near_count == 0u) {
+        return true;
+    }
+    for (uint k = 0u; k < j.near_count; ++k) {
+        vec4 pl = j.near[k];
+        // The box corner farthest against the outward normal: if even it is outside, all is.
+        vec3 nearest = vec3(pl.x >= 0.0 ? j.box_min.x : j.box_max.x,
+                            pl.y >= 0.0 ? j.box_min.y : j.box_max.y,
+                            pl.z >= 0.0 ? j.box_min.z : j.box_max.z);
+        precise float outside = pl.x * nearest.x + pl.y * nearest.y + pl.z * nearest.z + pl.w;
+        if (outside > 0.0) {
+            return false;
+        }
+    }
+    return true;
+}
+
+// The job's counting mode, its caps draw set for z-fail.
+void decide_mode(VolumeJob j) {
+    uint mode = j.mode;
+    if (mode == MODE_AUTO) {
+        mode = may_touch_near_region(j) ? MODE_ZFAIL : MODE_ZPASS;
+    }
+    uint at = JOB_DRAWS * push.job;
+    volume_draws[at + DRAW_COUNTS].y = mode;
+    if (mode == MODE_ZFAIL) {
+        volume_draws[at + DRAW_CAPS].xy = uvec2(3u * j.triangle_count, j.closed != 0u ? 1u : 2u);
+    }
+}
+
 void main() {
     VolumeJob j = jobs[push.job];
     uint t = gl_GlobalInvocationID.x;
+    if (t == 0u) {
+        decide_mode(j);
+    }
     if (t >= j.triangle_count) {
         return;
     }
@@ -36,6 +76,6 @@ void main() {
     // each costs nothing).
     bool degenerate = tri.x == tri.y || tri.y == tri.z || tri.x == tri.z;
     if (d == 0.0 && j.closed == 0u && !degenerate) {
-        atomicAdd(volume_draws[JOB_DRAWS * push.job + 1u].x, 1u);
+        atomicAdd(volume_draws[JOB_DRAWS * push.job + DRAW_COUNTS].x, 1u);
     }
 }

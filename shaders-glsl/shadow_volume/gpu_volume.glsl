@@ -19,6 +19,10 @@
 // One caster's volume for one light.
 struct VolumeJob {
     vec4 light;          // the light in the caster's object space, as the host computes it
+    vec4 box_min;        // the caster's world bounds (xyz; w unused), for the mode test
+    vec4 box_max;
+    vec4 near[5];        // the light's near-plane clip region (Everitt–Kilgard §3.4): outward
+                         // planes, a point p outside when dot(n, p) + d > 0
     uint triangles;      // its mesh's first triangle
     uint triangle_count;
     uint edges;          // its mesh's first edge
@@ -27,7 +31,16 @@ struct VolumeJob {
     uint list;           // its first entry in `silhouettes`
     uint closed;         // 1: a closed 2-manifold mesh (umbra_scene::TopologyReport::closed)
     uint faces;          // its mesh's triangles with three distinct vertices (the caps' source)
+    uint near_count;     // planes in `near`: 0 when none is known (then z-fail)
+    uint mode;           // MODE_AUTO, or the mode the light's settings force
+    uint pad0;
+    uint pad1;
 };
+
+// A job's counting mode: asked for (VolumeJob::mode), and decided (the counts' y).
+const uint MODE_AUTO = 0u;
+const uint MODE_ZPASS = 1u;
+const uint MODE_ZFAIL = 2u;
 
 // How a triangle faces the light (umbra_scene::Facing).
 const uint FACING_AWAY = 0u;
@@ -69,11 +82,18 @@ layout(set = VOLUME_SET, binding = 6, std430) VOLUME_WRITTEN buffer VolumeSilhou
     uint silhouettes[];
 };
 
-// Per job JOB_DRAWS entries: at JOB_DRAWS * job a VkDrawIndirectCommand of its side triangles:
-// x vertices (6 per silhouette edge), y instances (1), z first vertex (6 * job.list), w first
-// instance (0); after it the job's counts for the report: x its faces edge-on to the light (an
-// open caster's, which make no cap; counted by classify.comp), y, z, w 0.
-const uint JOB_DRAWS = 2u;
+// Per job JOB_DRAWS entries, from JOB_DRAWS * job: three VkDrawIndirectCommands, its z-fail
+// sides (DRAW_ZFAIL_SIDES), its z-pass sides (DRAW_ZPASS_SIDES), each x vertices (6 per
+// silhouette edge), y instances (1), z first vertex (6 * job.list), w first instance (0), of
+// which only its mode's gets vertices; its caps (DRAW_CAPS, z-fail only): x 3 per triangle,
+// y instances (1 for a closed caster, 2 for an open one), z, w 0; then its counts
+// (DRAW_COUNTS): x its faces edge-on to the light (an open caster's, which make no cap;
+// counted by classify.comp), y the mode classify.comp decided, z, w 0.
+const uint JOB_DRAWS = 4u;
+const uint DRAW_ZFAIL_SIDES = 0u;
+const uint DRAW_ZPASS_SIDES = 1u;
+const uint DRAW_CAPS = 2u;
+const uint DRAW_COUNTS = 3u;
 layout(set = VOLUME_SET, binding = 7, std430) VOLUME_WRITTEN buffer VolumeDraws {
     uvec4 volume_draws[];
 };

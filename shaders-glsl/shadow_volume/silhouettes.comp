@@ -4,7 +4,7 @@
 // or non-manifold mesh's faces not edge-on (oriented towards the light), each +1 walking the
 // edge one way and −1 the other. An edge whose count is not 0 is appended to the job's list
 // as many times, directed as its casting faces walk it, and its side quads (6 vertices each)
-// are added to the job's indirect draw.
+// are added to the indirect draw of the mode classify.comp decided.
 #define VOLUME_WRITES
 #include "shadow_volume/gpu_volume.glsl"
 
@@ -37,7 +37,9 @@ void main() {
         return;
     }
     uint count = uint(abs(net));
-    uint first = atomicAdd(volume_draws[JOB_DRAWS * push.job].x, 6u * count) / 6u;
+    uint at = JOB_DRAWS * push.job;
+    uint draw = volume_draws[at + DRAW_COUNTS].y == MODE_ZPASS ? DRAW_ZPASS_SIDES : DRAW_ZFAIL_SIDES;
+    uint first = atomicAdd(volume_draws[at + draw].x, 6u * count) / 6u;
     uint entry = (e << 1) | (net > 0 ? 0u : 1u);
     for (uint k = 0u; k < count; ++k) {
         silhouettes[j.list + first + k] = entry;

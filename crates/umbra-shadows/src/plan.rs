@@ -344,7 +344,8 @@ pub struct CasterMode {
     pub object: usize,
     /// Object name.
     pub name: String,
-    /// `zpass` or `zfail`.
+    /// `zpass` or `zfail`; `gpu` for volumes built on the GPU in `auto` mode, whose mode the
+    /// GPU decides each frame, in a frame whose counts are not read back (an engine's frame).
     pub mode: &'static str,
     /// Volume triangles drawn for it.
     pub triangles: usize,

@@ -7,7 +7,9 @@ use super::settings::{MaskKind, COUNT_BITS, DEPTH_BOUNDS_EPSILON, SILHOUETTE_BIT
 use crate::shadow_volume::batches::{counting_in_batch, FULL_STENCIL};
 use crate::shadow_volume::pass::{self as volume_pass, VolumeInput};
 use crate::RenderResult;
-use umbra_vk::{vk, Context, GraphicsPipeline, GraphicsPipelineDesc, PipelineLayout, Recorder, StencilFace};
+use umbra_vk::{
+    vk, Context, DepthState, GraphicsPipeline, GraphicsPipelineDesc, PipelineLayout, Recorder, StencilFace,
+};
 
 /// The debug name prefix of `input`'s pipelines.
 fn prefix(input: VolumeInput) -> &'static str {
@@ -116,6 +118,58 @@ impl MaskedCounting {
                 rec.bind_pipeline(if batched { &self.none_batch } else { &self.none });
                 rec.set_stencil_reference(0);
             }
+        }
+    }
+}
+
+/// Diagnostic fragment counts of one volume input: its draws with only the computation
+/// mask's test, depth and stencil untouched (the hybrid's `volume_fragments`).
+pub(crate) struct MaskedFragments {
+    /// With the depth-bounds test (`None` without `depthBounds`).
+    depth_bounds: Option<GraphicsPipeline>,
+    stencil: GraphicsPipeline,
+}
+
+impl MaskedFragments {
+    /// The pipelines of `input`'s z-fail counting desc `zfail` (`volume_pass::zfail_desc`)
+    /// against `layout`; `depth_bounds` the device's `depthBounds`.
+    pub fn new(
+        ctx: &Context,
+        layout: &PipelineLayout,
+        zfail: GraphicsPipelineDesc<'_>,
+        depth_bounds: bool,
+        input: VolumeInput,
+    ) -> RenderResult<Self> {
+        let mut desc = zfail;
+        let names = ["depth-bounds mask", "stencil mask"].map(|what| format!("{} fragments ({what})", prefix(input)));
+        // The depth test is on but ALWAYS passes: SwiftShader skips the depth-bounds test
+        // while it is off.
+        let clamp = desc.depth.clamp;
+        desc.depth = DepthState { test: true, compare: vk::CompareOp::ALWAYS, clamp, ..DepthState::NONE };
+        desc.stencil = None;
+        let with_bounds = with_depth_bounds(ctx, layout, desc, &names[0], depth_bounds)?;
+        desc.name = &names[1];
+        let bit = super::pass::test_only(vk::CompareOp::EQUAL, SILHOUETTE_BIT);
+        desc.stencil = Some((bit, bit));
+        let stencil = GraphicsPipeline::new(ctx, layout, &desc)?;
+        Ok(Self { depth_bounds: with_bounds, stencil })
+    }
+
+    /// Binds the pipeline of `mask` and its dynamic state; false without a mask (nothing to
+    /// count: the count is the unmasked one) or without the device's depth-bounds test.
+    pub fn bind<'a>(&'a self, rec: &mut Recorder<'a>, mask: MaskKind) -> bool {
+        match (mask, &self.depth_bounds) {
+            (MaskKind::DepthBounds, Some(p)) => {
+                rec.bind_pipeline(p);
+                rec.set_depth_bounds(DEPTH_BOUNDS_EPSILON, 1.0);
+                true
+            }
+            (MaskKind::Stencil, _) => {
+                rec.bind_pipeline(&self.stencil);
+                rec.set_stencil_reference(SILHOUETTE_BIT);
+                true
+            }
+            _ => false,
         }
     }
 }

@@ -6,8 +6,8 @@
 
 use super::bounds::BoundsPass;
 use super::cull::BOX_VERTICES;
-use super::masked::{with_depth_bounds, MaskedCounting};
-use super::settings::{MaskKind, COUNT_BITS, DEPTH_BOUNDS_EPSILON, SILHOUETTE_BIT};
+use super::masked::{MaskedCounting, MaskedFragments};
+use super::settings::{MaskKind, COUNT_BITS, SILHOUETTE_BIT};
 use crate::diagnostics::ClassReadback;
 use crate::forward;
 use crate::frame::{PassRecorder, QueryId};
@@ -64,8 +64,7 @@ pub(crate) struct HybridPass {
     resolve: [GraphicsPipeline; 2],
     resolve_count_bits: [GraphicsPipeline; 2],
     /// Diagnostic: volume fragments the mask lets through (depth and stencil untouched).
-    fragments_depth_bounds: Option<GraphicsPipeline>,
-    fragments_stencil: GraphicsPipeline,
+    fragments: MaskedFragments,
     /// Blocker culling: bounding boxes against the shadow map.
     boxes: GraphicsPipeline,
     /// The conservative depth bounds the classification reads (`hybrid bounds N`).
@@ -76,7 +75,7 @@ pub(crate) struct HybridPass {
 
 /// The stencil face that tests `compare` against the reference through `compare_mask`,
 /// changing nothing.
-fn test_only(compare: vk::CompareOp, compare_mask: u32) -> StencilFace {
+pub(super) fn test_only(compare: vk::CompareOp, compare_mask: u32) -> StencilFace {
     StencilFace { compare, compare_mask, write_mask: 0, ..StencilFace::KEEP }
 }
 
@@ -163,17 +162,8 @@ impl HybridPass {
             &fold_desc("hybrid batch fold (under the silhouette bit)", depth_format, UNDER_SILHOUETTE_BIT),
         )?;
 
-        // Diagnostic fragment counts: the volume draws with only the mask's test. The depth test
-        // is on but ALWAYS passes: SwiftShader skips the depth-bounds test while it is off.
-        let mut desc = volume_pass::zfail_desc(depth_format, clamp, input);
-        desc.depth = DepthState { test: true, compare: vk::CompareOp::ALWAYS, clamp, ..DepthState::NONE };
-        desc.stencil = None;
-        let fragments_depth_bounds =
-            with_depth_bounds(ctx, layout, desc, "hybrid volume fragments (depth-bounds mask)", caps.depth_bounds)?;
-        desc.name = "hybrid volume fragments (stencil mask)";
-        let bit = test_only(vk::CompareOp::EQUAL, SILHOUETTE_BIT);
-        desc.stencil = Some((bit, bit));
-        let fragments_stencil = GraphicsPipeline::new(ctx, layout, &desc)?;
+        let zfail = volume_pass::zfail_desc(depth_format, clamp, input);
+        let fragments = MaskedFragments::new(ctx, layout, zfail, caps.depth_bounds, input)?;
 
         // Step 4: the silhouette pixels' visibility, through the whole stencil or its count bits.
         let resolve = resolve_pipelines(ctx, layout, depth_format, 0xff)?;
@@ -204,8 +194,7 @@ impl HybridPass {
             fold_under_silhouette,
             resolve,
             resolve_count_bits,
-            fragments_depth_bounds,
-            fragments_stencil,
+            fragments,
             boxes,
             bounds: BoundsPass::new(ctx, scene_set_layout)?,
             depth_format,
@@ -380,21 +369,19 @@ impl HybridPass {
         let target = self.count_target(h.mask, h.depth);
         cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(DepthAttachment::keep(target)) });
         cx.begin_query(query);
-        let counting = match h.mask {
-            MaskKind::DepthBounds => self.fragments_depth_bounds.as_ref(),
-            MaskKind::Stencil => Some(&self.fragments_stencil),
-            MaskKind::None => None,
-        };
-        // Volumes built on the GPU have no overdraw diagnostic (the renderer refuses both).
-        if let (Some(p), VolumeSource::Host(Some(vertices))) = (counting, h.source) {
-            cx.rec.bind_pipeline(p);
-            match h.mask {
-                MaskKind::DepthBounds => cx.rec.set_depth_bounds(DEPTH_BOUNDS_EPSILON, 1.0),
-                _ => cx.rec.set_stencil_reference(SILHOUETTE_BIT),
+        match h.source {
+            VolumeSource::Host(Some(vertices)) => {
+                if self.fragments.bind(cx.rec, h.mask) {
+                    let b = VolumeBindings { layout: h.layout, gpu: h.gpu, vertices };
+                    b.bind(cx.rec);
+                    b.draw(cx.rec, &h.volumes.casters, h.light as u32, cx.log);
+                }
             }
-            let b = VolumeBindings { layout: h.layout, gpu: h.gpu, vertices };
-            b.bind(cx.rec);
-            b.draw(cx.rec, &h.volumes.casters, h.light as u32, cx.log);
+            VolumeSource::Gpu(g, slot) => {
+                let draws = GpuDraws { gpu: h.gpu, slot, volumes: h.volumes, light: h.light as u32 };
+                g.record_fragments(cx.rec, draws, h.mask);
+            }
+            VolumeSource::Host(None) => {}
         }
         cx.end_query(query);
         cx.rec.end_rendering();

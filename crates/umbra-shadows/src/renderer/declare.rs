@@ -16,7 +16,7 @@ use crate::hybrid::pass::{HybridLight, VolumeSource};
 use crate::hybrid::rays::RaysLight;
 use crate::plan::{tally, CullReason};
 use crate::shadow_volume::build::LightVolumes;
-use crate::shadow_volume::gpu_frame::{GpuVolumes, SlotVolumes};
+use crate::shadow_volume::gpu_frame::{GpuDraws, GpuVolumes, SlotVolumes};
 use crate::shadow_volume::pass::VolumeBindings;
 use crate::timing::PassLog;
 use crate::RenderResult;
@@ -616,15 +616,29 @@ impl Renderer {
         light: &'a LightFrame,
         first: bool,
     ) -> Option<QueryId> {
-        let ((image, _), v, vertices) = (self.overdraw.as_ref()?, light.volumes.as_ref()?, f.volumes?);
+        let ((image, _), v) = (self.overdraw.as_ref()?, light.volumes.as_ref()?);
+        // Built on the CPU: the frame's vertices; on the GPU: the stages' draws and set.
+        let source = match v.gpu {
+            Some(_) => VolumeSource::Gpu(self.gpu_volumes.as_ref()?, self.slot.volumes.as_ref()?),
+            None => VolumeSource::Host(Some(f.volumes?)),
+        };
         let l = light.light();
         let query = stage.queries(1);
-        stage.pass(PassId::VolumeOverdraw(l), &[Use::Image(image, Color)], move |cx| {
+        let uses = [vec![Use::Image(image, Color)], source.reads()].concat();
+        stage.pass(PassId::VolumeOverdraw(l), &uses, move |cx| {
             let clear = first.then_some([0.0; 4]);
             cx.rec.begin_rendering(&RenderTargets { color: &[ColorAttachment { image, clear }], depth: None });
             cx.begin_query(query);
-            let b = VolumeBindings { layout: &self.layout, gpu: f.gpu, vertices };
-            self.shadow_volume.record_overdraw(cx.rec, b, v, l as u32, cx.log);
+            match source {
+                VolumeSource::Host(Some(vertices)) => {
+                    let b = VolumeBindings { layout: &self.layout, gpu: f.gpu, vertices };
+                    self.shadow_volume.record_overdraw(cx.rec, b, v, l as u32, cx.log);
+                }
+                VolumeSource::Gpu(g, slot) => {
+                    g.record_overdraw(cx.rec, GpuDraws { gpu: f.gpu, slot, volumes: v, light: l as u32 });
+                }
+                VolumeSource::Host(None) => {}
+            }
             cx.end_query(query);
             cx.rec.end_rendering();
             Ok(())

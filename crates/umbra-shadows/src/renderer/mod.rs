@@ -354,9 +354,8 @@ fn no_targets() -> crate::RenderError {
 }
 
 /// The GPU path of shadow volumes, when `desc` asks for it: refused (naming the setting) where
-/// the device needs volumes clipped on the host, with the overdraw diagnostic, or on a
-/// graphics queue that runs no compute. With `own` (the renderer's own frames) the counts are
-/// read back for the report.
+/// the device needs volumes clipped on the host, or on a graphics queue that runs no compute.
+/// With `own` (the renderer's own frames) the counts are read back for the report.
 fn gpu_volumes(
     ctx: &Context,
     desc: &RendererDesc,
@@ -378,14 +377,19 @@ fn gpu_volumes(
             "cannot clip volumes on the host, which this device needs (set host_clip to Never to draw them unclipped)",
         );
     }
-    if settings.overdraw {
-        return refuse("has no overdraw diagnostic yet (shadow_volume.overdraw)");
-    }
     if !ctx.capabilities().compute_queue {
         return refuse(&format!("needs compute on the graphics queue, which {} lacks", ctx.capabilities().device_name));
     }
     let clamp = settings.far_plane == FarPlane::DepthClamp;
-    let volumes =
-        crate::shadow_volume::gpu_frame::GpuVolumes::new(ctx, scene_set_layout, depth_format, clamp, bounds, own)?;
+    let overdraw = settings.overdraw;
+    let volumes = crate::shadow_volume::gpu_frame::GpuVolumes::new(
+        ctx,
+        scene_set_layout,
+        depth_format,
+        clamp,
+        bounds,
+        own,
+        overdraw,
+    )?;
     Ok(Some(volumes))
 }

@@ -118,7 +118,7 @@ mod tests {
             .iter()
             .map(|&count_bound| CasterVolume {
                 object: 0,
-                counting: Counting::ZFail,
+                counting: Some(Counting::ZFail),
                 first: 0,
                 count: 3,
                 cut_caps: 0,

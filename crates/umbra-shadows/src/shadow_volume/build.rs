@@ -20,7 +20,8 @@ pub(crate) enum Counting {
 #[derive(Clone, Debug)]
 pub(crate) struct CasterVolume {
     pub object: usize,
-    pub counting: Counting,
+    /// `None`: decided per frame on the GPU (`gpu.rs`, [`VolumeMode::Auto`]).
+    pub counting: Option<Counting>,
     pub first: u32,
     pub count: u32,
     /// The last `cut_caps` of the `count` vertices are front-cap triangles cut on the host
@@ -32,6 +33,15 @@ pub(crate) struct CasterVolume {
     pub stats: VolumeStats,
     /// Built on the GPU: its job (`gpu.rs`), and `first`/`count` are 0.
     pub job: Option<u32>,
+}
+
+/// What one caster's volume counted, for the report.
+#[derive(Clone, Copy, Debug)]
+struct Counted {
+    edges: usize,
+    triangles: usize,
+    /// `None`: decided on the GPU, not read back.
+    mode: Option<Counting>,
 }
 
 /// Every caster's volume for one light.
@@ -56,54 +66,57 @@ impl LightVolumes {
     }
 
     /// The report of these volumes (`volume_fragments` is filled in once counted; built on the
-    /// GPU, the counts are 0 until [`Self::counted_report`]).
+    /// GPU, the counts are 0 and modes decided there `gpu` until [`Self::counted_report`]).
     pub fn report(&self, scene: &Scene) -> ShadowVolumeReport {
-        self.report_with(scene, |c| Some((c.stats.silhouette_edges, c.count as usize / 3)))
+        self.report_with(scene, |c| {
+            Some(Counted { edges: c.stats.silhouette_edges, triangles: c.count as usize / 3, mode: c.counting })
+        })
     }
 
-    /// The report of volumes built on the GPU, with their counts from the draws buffer's
-    /// `words` as read back (`gpu::JobCounts`): as the CPU path reports them, casters whose
-    /// volume is empty left out.
+    /// The report of volumes built on the GPU, with their counts and modes from the draws
+    /// buffer's `words` as read back (`gpu::JobCounts`): as the CPU path reports them, casters
+    /// whose volume is empty left out.
     pub fn counted_report(&self, scene: &Scene, words: &[u32]) -> ShadowVolumeReport {
         let Some((first, jobs)) = &self.gpu else { return self.report(scene) };
         self.report_with(scene, |c| {
             let job = c.job?;
             let counts =
                 super::gpu::JobCounts::read(words, jobs.get((job as usize).wrapping_sub(*first))?, job as usize);
-            let caps = if c.counting == Counting::ZFail { counts.cap_triangles } else { 0 };
-            let triangles = (2 * counts.silhouette_edges + caps) as usize;
-            (triangles > 0).then_some((counts.silhouette_edges as usize, triangles))
+            let triangles = (2 * counts.silhouette_edges + counts.cap_triangles) as usize;
+            let edges = counts.silhouette_edges as usize;
+            (triangles > 0).then_some(Counted { edges, triangles, mode: counts.mode })
         })
     }
 
-    /// The report, with each caster's silhouette edges and volume triangles from `counts`
-    /// (`None`: an empty volume, left out).
-    fn report_with(
-        &self,
-        scene: &Scene,
-        counts: impl Fn(&CasterVolume) -> Option<(usize, usize)>,
-    ) -> ShadowVolumeReport {
-        let mode = |c: Counting| if c == Counting::ZPass { "zpass" } else { "zfail" };
-        let casters: Vec<(&CasterVolume, (usize, usize))> =
+    /// The report, with each caster's silhouette edges, volume triangles and mode from
+    /// `counts` (`None`: an empty volume, left out; a mode `None`: decided on the GPU, not
+    /// read back).
+    fn report_with(&self, scene: &Scene, counts: impl Fn(&CasterVolume) -> Option<Counted>) -> ShadowVolumeReport {
+        let name = |c: Option<Counting>| match c {
+            Some(Counting::ZPass) => "zpass",
+            Some(Counting::ZFail) => "zfail",
+            None => "gpu",
+        };
+        let casters: Vec<(&CasterVolume, Counted)> =
             self.casters.iter().filter_map(|c| Some((c, counts(c)?))).collect();
-        let with = |mode: Counting| casters.iter().filter(|(c, _)| c.counting == mode).count();
+        let with = |mode: Counting| casters.iter().filter(|(_, n)| n.mode == Some(mode)).count();
         ShadowVolumeReport {
             casters: casters.len(),
             zpass_casters: with(Counting::ZPass),
             zfail_casters: with(Counting::ZFail),
-            silhouette_edges: casters.iter().map(|(_, (edges, _))| edges).sum(),
-            volume_triangles: casters.iter().map(|(_, (_, triangles))| triangles).sum(),
+            silhouette_edges: casters.iter().map(|(_, n)| n.edges).sum(),
+            volume_triangles: casters.iter().map(|(_, n)| n.triangles).sum(),
             host_clipped: self.host_clipped,
             count_batches: self.batches.len(),
             cpu_build_ms: self.cpu_ms,
             volume_fragments: None,
             caster_modes: casters
                 .iter()
-                .map(|(c, (_, triangles))| CasterMode {
+                .map(|(c, n)| CasterMode {
                     object: c.object,
                     name: scene.objects.get(c.object).map(|o| o.name.clone()).unwrap_or_default(),
-                    mode: mode(c.counting),
-                    triangles: *triangles,
+                    mode: name(n.mode),
+                    triangles: n.triangles,
                 })
                 .collect(),
             gpu_built: self.gpu.is_some(),
@@ -159,7 +172,7 @@ pub(crate) fn build_light(
         }
         casters.push(CasterVolume {
             object,
-            counting,
+            counting: Some(counting),
             first: vertices.len() as u32,
             count: verts.len() as u32,
             cut_caps: 0,
@@ -175,8 +188,9 @@ pub(crate) fn build_light(
 
 /// Names the volumes of `light` for the objects `casters` as jobs of the GPU path (`gpu.rs`),
 /// appended to `jobs` over `arrays` (every mesh's adjacency, in mesh order), with their facing
-/// and list entries after `next` (advanced): the counting mode per caster as [`build_light`]
-/// decides it, nothing per triangle.
+/// and list entries after `next` (advanced). Nothing per triangle, and in [`VolumeMode::Auto`]
+/// nothing per caster but its box: the GPU decides each caster's counting mode from the
+/// light's near-plane clip region, made here once.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn jobs_for_light(
     scene: &Scene,
@@ -190,21 +204,33 @@ pub(crate) fn jobs_for_light(
     jobs: &mut Vec<super::gpu::VolumeJob>,
     next: &mut (u32, u32),
 ) -> LightVolumes {
+    use super::gpu::{MODE_AUTO, MODE_ZFAIL, MODE_ZPASS, NEAR_PLANES};
     let started = std::time::Instant::now();
+    let (counting, job_mode) = match mode {
+        VolumeMode::ZPass => (Some(Counting::ZPass), MODE_ZPASS),
+        VolumeMode::ZFail => (Some(Counting::ZFail), MODE_ZFAIL),
+        VolumeMode::Auto => (None, MODE_AUTO),
+    };
+    let mut near = [[0.0; 4]; NEAR_PLANES];
     let near_region = NearRegion::new(view, light.position);
+    for (to, plane) in near.iter_mut().zip(&near_region.planes) {
+        *to = plane.to_array();
+    }
+    let near_count = near_region.planes.len().min(NEAR_PLANES) as u32;
     let first = jobs.len();
     let mut out = Vec::with_capacity(casters.len());
     for &i in casters {
         let (Some(o), Some(bounds)) = (scene.objects.get(i), boxes.get(i).copied().flatten()) else { continue };
         let (Some(adj), Some(range)) = (adjacency.get(o.mesh), arrays.get(o.mesh)) else { continue };
         let local = o.transform.inverse() * light.position;
-        let counting = match mode {
-            VolumeMode::ZPass => Counting::ZPass,
-            VolumeMode::ZFail => Counting::ZFail,
-            VolumeMode::Auto if near_region.may_touch(&bounds) => Counting::ZFail,
-            VolumeMode::Auto => Counting::ZPass,
+        let job = super::gpu::VolumeJob {
+            box_min: bounds.min.extend(0.0).to_array(),
+            box_max: bounds.max.extend(0.0).to_array(),
+            near,
+            near_count,
+            mode: job_mode,
+            ..range.job(local, next.0, next.1)
         };
-        let job = range.job(local, next.0, next.1);
         next.0 += job.triangle_count;
         next.1 += range.list_bound;
         // Caps a ray may cross: a closed caster's triangles, an open one's twice (edge-on ones,
@@ -237,6 +263,7 @@ pub(crate) fn jobs_for_light(
 /// light (a point light), or the near rectangle swept towards a directional light. A caster
 /// whose volume can reach the near rectangle must lie in it; a caster outside it may use
 /// z-pass. The test is conservative (face planes of the region only): when unsure, z-fail.
+/// `classify.comp` runs the same test for volumes built on the GPU.
 struct NearRegion {
     /// Outward planes (normal, offset): a point p is outside when n·p + d > 0.
     planes: Vec<Vec4>,

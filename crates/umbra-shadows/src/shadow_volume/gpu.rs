@@ -3,15 +3,18 @@
 //!
 //! Every mesh's welded adjacency ([`Adjacency`]: positions, triangles, edges with the faces
 //! that use them) is flattened into four arrays, once per mesh. Per caster and light a
-//! [`VolumeJob`] names its mesh and the light in its object space (computed on the host, as
-//! `build.rs` does), and two compute stages run per job:
+//! [`VolumeJob`] names its mesh, the light in its object space (computed on the host, as
+//! `build.rs` does), its world box and the light's near-plane clip region, and two compute
+//! stages run per job:
 //! 1. `shadow_volume/classify.comp`: how each triangle faces the light, in the f32 operations
 //!    of [`umbra_scene::facing`], `precise`, so both classify alike (hard case 06's
-//!    light in the plane of a face included);
+//!    light in the plane of a face included); its first invocation decides the job's
+//!    counting mode (Everitt–Kilgard §3.4: z-fail only where the box may touch the near-plane
+//!    clip region, the test `build.rs` runs for the CPU path) and sets its caps' draw;
 //! 2. `shadow_volume/silhouettes.comp`: every edge's net count of casting faces, as
 //!    [`umbra_scene::silhouette_edges`] counts it (open and non-manifold casters with
 //!    multiplicity); edges whose count is not 0 are appended to the job's list, and their side
-//!    quads to its `VkDrawIndirectCommand`.
+//!    quads to the `VkDrawIndirectCommand` of its mode ([`JobDraw`]).
 //!
 //! A job's list holds as many entries as its mesh's edges have faces: the most its edges can
 //! count, so the list never overflows. [`GpuSilhouettes::find`] runs both stages and reads the
@@ -35,6 +38,11 @@ pub(crate) const GROUP: u32 = 64;
 pub(crate) struct VolumeJob {
     /// The light in the caster's object space.
     pub light: [f32; 4],
+    /// The caster's world bounds (w unused): the counting mode's test.
+    pub box_min: [f32; 4],
+    pub box_max: [f32; 4],
+    /// The light's near-plane clip region (`build.rs`' `NearRegion`), `near_count` planes.
+    pub near: [[f32; 4]; NEAR_PLANES],
     pub triangles: u32,
     pub triangle_count: u32,
     pub edges: u32,
@@ -47,40 +55,90 @@ pub(crate) struct VolumeJob {
     pub closed: u32,
     /// Its mesh's triangles with three distinct vertices (the caps' source).
     pub faces: u32,
+    pub near_count: u32,
+    /// [`MODE_AUTO`] (decided on the GPU), [`MODE_ZPASS`] or [`MODE_ZFAIL`].
+    pub mode: u32,
+    pub pad: [u32; 2],
 }
 
-/// `u32` words per job in the draws buffer (`JOB_DRAWS` uvec4s in `gpu_volume.glsl`): the
-/// sides' `VkDrawIndirectCommand`, then the job's counts.
-pub(crate) const DRAW_WORDS: usize = 8;
+/// The most planes of a near-plane clip region: the near rectangle and its four sides.
+pub(crate) const NEAR_PLANES: usize = 5;
 
-/// Bytes per job in the draws buffer: job `j`'s side draw is at `DRAW_STRIDE * j`.
+/// A job's counting mode (`MODE_*` in `gpu_volume.glsl`): decided by `classify.comp`.
+pub(crate) const MODE_AUTO: u32 = 0;
+/// Z-pass, asked for or decided.
+pub(crate) const MODE_ZPASS: u32 = 1;
+/// Z-fail, asked for or decided.
+pub(crate) const MODE_ZFAIL: u32 = 2;
+
+/// `u32` words per job in the draws buffer (`JOB_DRAWS` uvec4s in `gpu_volume.glsl`): its
+/// three `VkDrawIndirectCommand`s ([`JobDraw`]), then its counts.
+pub(crate) const DRAW_WORDS: usize = 16;
+
+/// Bytes per job in the draws buffer.
 pub(crate) const DRAW_STRIDE: u64 = 4 * DRAW_WORDS as u64;
 
-/// The draws buffer's value before the stages run: per job no side vertex yet, from its list's
-/// first vertex, and no count.
-pub(crate) fn draw_resets(jobs: &[VolumeJob]) -> Vec<[u32; DRAW_WORDS]> {
-    jobs.iter().map(|j| [0, 1, 6 * j.list, 0, 0, 0, 0, 0]).collect()
+/// One of a job's indirect draws (`DRAW_*` in `gpu_volume.glsl`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum JobDraw {
+    /// Its sides, counted z-fail (vertices only when z-fail was decided).
+    ZFailSides = 0,
+    /// Its sides, counted z-pass (vertices only when z-pass was decided).
+    ZPassSides = 1,
+    /// Its caps (z-fail only).
+    Caps = 2,
 }
 
-/// What the stages counted for one job, read back from the draws buffer.
+impl JobDraw {
+    /// Where job `job`'s draw lies in the draws buffer.
+    pub fn offset(self, job: u32) -> u64 {
+        DRAW_STRIDE * u64::from(job) + 16 * self as u64
+    }
+}
+
+/// The draws buffer's value before the stages run: per job no vertex yet, sides from its
+/// list's first vertex, no mode and no count.
+pub(crate) fn draw_resets(jobs: &[VolumeJob]) -> Vec<[u32; DRAW_WORDS]> {
+    jobs.iter()
+        .map(|j| {
+            let sides = [0, 1, 6 * j.list, 0];
+            let mut words = [0; DRAW_WORDS];
+            words[..4].copy_from_slice(&sides);
+            words[4..8].copy_from_slice(&sides);
+            words
+        })
+        .collect()
+}
+
+/// What the stages counted and decided for one job, read back from the draws buffer.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub(crate) struct JobCounts {
     /// Silhouette edges listed, with multiplicity.
     pub silhouette_edges: u32,
     /// Cap triangles its z-fail draw makes: a closed caster's faces, an open caster's faces
-    /// not edge-on to the light, twice (as `umbra_scene::Volume::build` makes them).
+    /// not edge-on to the light, twice (as `umbra_scene::Volume::build` makes them); 0 in
+    /// z-pass.
     pub cap_triangles: u32,
+    /// The counting mode `classify.comp` decided (`None`: the job never ran, an empty mesh).
+    pub mode: Option<super::build::Counting>,
 }
 
 impl JobCounts {
-    /// Job `job`'s counts in the draws buffer's `words`.
+    /// Job `index`'s counts (`job`) in the draws buffer's `words`.
     pub fn read(words: &[u32], job: &VolumeJob, index: usize) -> Self {
+        use super::build::Counting;
         let at = |k: usize| words.get(DRAW_WORDS * index + k).copied().unwrap_or(0);
-        let cap_triangles = match job.closed {
-            0 => 2 * job.faces.saturating_sub(at(4)),
-            _ => job.faces,
+        let mode = match at(13) {
+            MODE_ZPASS => Some(Counting::ZPass),
+            MODE_ZFAIL => Some(Counting::ZFail),
+            _ => None,
         };
-        Self { silhouette_edges: at(0) / 6, cap_triangles }
+        let cap_triangles = match (mode, job.closed) {
+            (Some(Counting::ZFail), 0) => 2 * job.faces.saturating_sub(at(12)),
+            (Some(Counting::ZFail), _) => job.faces,
+            _ => 0,
+        };
+        Self { silhouette_edges: (at(0) + at(4)) / 6, cap_triangles, mode }
     }
 }
 
@@ -158,6 +216,7 @@ impl MeshRange {
             list,
             closed: u32::from(self.closed),
             faces: self.faces,
+            ..VolumeJob::default()
         }
     }
 }
@@ -237,7 +296,7 @@ impl GpuSilhouettes {
             rec.update_buffer(&run.draws, bytemuck::cast_slice::<_, u32>(&init));
         }
         rec.buffer_transition(&[(&run.draws, BufferState::TransferDst, BufferState::ComputeStorage)]);
-        self.record(&mut rec, &run.set, &run.facing, &gpu_jobs);
+        self.record(&mut rec, &run, &gpu_jobs);
         let src = BufferState::TransferSrc;
         rec.buffer_transition(&[
             (&run.draws, BufferState::ComputeStorage, src),
@@ -270,12 +329,14 @@ impl GpuSilhouettes {
             .collect())
     }
 
-    /// Records both stages for every job of `jobs` (their facing in `facing`, their draws
-    /// ready in `ComputeStorage`): each job classified, one barrier, each job's silhouettes.
-    fn record<'a>(&'a self, rec: &mut Recorder<'a>, set: &'a DescriptorSet, facing: &'a Buffer, jobs: &[VolumeJob]) {
+    /// Records both stages for every job of `jobs` (the run's facing and draws ready in
+    /// `ComputeStorage`): each job classified (its mode decided), one barrier, each job's
+    /// silhouettes.
+    fn record<'a>(&'a self, rec: &mut Recorder<'a>, run: &'a RunBuffers, jobs: &[VolumeJob]) {
+        let (set, facing, draws) = (&run.set, &run.facing, &run.draws);
         self.record_classify(rec, set, 0, jobs);
         let storage = BufferState::ComputeStorage;
-        rec.buffer_transition(&[(facing, storage, storage)]);
+        rec.buffer_transition(&[(facing, storage, storage), (draws, storage, storage)]);
         self.record_silhouettes(rec, set, 0, jobs);
     }
 

@@ -3,9 +3,11 @@
 //! and counts from the frame slot's initial values; then per light:
 //! 1. `volume classify N` (`classify.comp`), every caster's triangles' facing;
 //! 2. `volume silhouettes N` (`silhouettes.comp`), every caster's silhouette list and draw;
-//! 3. `shadow_volume N`, the counting draws: per caster its sides from its list, drawn
-//!    indirectly (`gpu_sides.vert`), and in z-fail its caps from its mesh's triangles and their
-//!    facing (`gpu_caps.vert`), with the counting pipelines and batches of the CPU path.
+//! 3. `shadow_volume N`, the counting draws, all indirect: per caster its sides from its list
+//!    (`gpu_sides.vert`) and in z-fail its caps from its mesh's triangles and their facing
+//!    (`gpu_caps.vert`), with the counting pipelines and batches of the CPU path. A caster
+//!    whose mode the GPU decides is drawn in both modes' pipelines, the draws of the mode not
+//!    decided left without vertices.
 //!
 //! In the renderer's own frames `volume counts readback` copies the draws out after every
 //! light's shadows: the report's silhouette edges and volume triangles
@@ -18,11 +20,11 @@
 use super::batches::{record_in_batches, CountBits, FULL_STENCIL};
 use super::build::{Counting, LightVolumes};
 use super::deform::{DeformCopies, DeformPipeline};
-use super::gpu::{AdjacencyArrays, GpuSilhouettes, MeshRange, DRAW_STRIDE};
-use super::pass::{Counting4, VolumeInput};
+use super::gpu::{AdjacencyArrays, GpuSilhouettes, JobDraw, MeshRange, DRAW_STRIDE};
+use super::pass::{overdraw_pipeline, Counting4, VolumeInput};
 use crate::forward::PassBounds;
 use crate::gpu_scene::GpuScene;
-use crate::hybrid::masked::MaskedCounting;
+use crate::hybrid::masked::{MaskedCounting, MaskedFragments};
 use crate::hybrid::MaskKind;
 use crate::retired::Retired;
 use crate::shadows::VertexStream;
@@ -65,6 +67,12 @@ struct Written {
     readback: Option<Buffer>,
 }
 
+/// The overdraw diagnostic's pipelines of the GPU-built volumes' sides and caps.
+struct Diagnostics {
+    overdraw: [GraphicsPipeline; 2],
+    fragments: [MaskedFragments; 2],
+}
+
 /// A frame slot's set over the arrays, its jobs and what the stages write.
 pub(crate) struct SlotVolumes {
     key: (u64, u64),
@@ -81,6 +89,9 @@ pub(crate) struct GpuVolumes {
     hybrid: [MaskedCounting; 2],
     /// `volume positions`, the deforming meshes' copy.
     deform: DeformPipeline,
+    /// With `shadow_volume.overdraw`: the overdraw image's and the hybrid's fragment counts'
+    /// pipelines, for sides and caps.
+    diagnostics: Option<Diagnostics>,
     arrays: Option<Arrays>,
     written: Option<Written>,
     /// Counts new arrays or written buffers (a slot's set over older ones is made again).
@@ -91,7 +102,8 @@ pub(crate) struct GpuVolumes {
 
 impl GpuVolumes {
     /// The stages and the counting pipelines (against the scene's set and the stages' set);
-    /// with `read_counts`, a readback of the draws for the report.
+    /// with `read_counts`, a readback of the draws for the report; with `overdraw`, the
+    /// overdraw diagnostic's pipelines.
     pub fn new(
         ctx: &Context,
         scene_set_layout: &DescriptorSetLayout,
@@ -99,6 +111,7 @@ impl GpuVolumes {
         clamp: bool,
         depth_bounds: bool,
         read_counts: bool,
+        overdraw: bool,
     ) -> RenderResult<Self> {
         let stages = GpuSilhouettes::new(ctx)?;
         let push = std::mem::size_of::<JobPush>() as u32;
@@ -111,8 +124,25 @@ impl GpuVolumes {
         let masked = |input| MaskedCounting::new(ctx, &layout, depth_format, clamp, has_bounds, input);
         let hybrid = [masked(VolumeInput::GpuSides)?, masked(VolumeInput::GpuCaps)?];
         let deform = DeformPipeline::new(ctx)?;
+        let diagnostics = match overdraw {
+            true => {
+                let image = |name, input| overdraw_pipeline(ctx, &layout, name, clamp, input);
+                let fragments = |input| {
+                    let zfail = super::pass::zfail_desc(depth_format, clamp, input);
+                    MaskedFragments::new(ctx, &layout, zfail, has_bounds, input)
+                };
+                Some(Diagnostics {
+                    overdraw: [
+                        image("gpu shadow volume sides overdraw", VolumeInput::GpuSides)?,
+                        image("gpu shadow volume caps overdraw", VolumeInput::GpuCaps)?,
+                    ],
+                    fragments: [fragments(VolumeInput::GpuSides)?, fragments(VolumeInput::GpuCaps)?],
+                })
+            }
+            false => None,
+        };
         let (arrays, written, generation) = (None, None, 0);
-        Ok(Self { stages, layout, sides, caps, hybrid, deform, arrays, written, generation, read_counts })
+        Ok(Self { stages, layout, sides, caps, hybrid, deform, diagnostics, arrays, written, generation, read_counts })
     }
 
     /// Every mesh's place in the arrays (after [`Self::prepare`]).
@@ -324,9 +354,55 @@ impl GpuVolumes {
         });
     }
 
-    /// Per batch of `draws`' casters, z-fail casters' sides and caps, then z-pass casters'
-    /// sides, each part's pipeline and dynamic state bound by `bind(rec, counting, batched,
-    /// caps)`.
+    /// The overdraw image's draws of a light's volumes (inside a rendering pass over the
+    /// overdraw target; built with `overdraw`): every caster's sides and caps as drawn.
+    pub fn record_overdraw<'a>(&'a self, rec: &mut Recorder<'a>, draws: GpuDraws<'a, '_>) {
+        let Some(d) = &self.diagnostics else { return };
+        self.record_every_draw(rec, draws, |rec, caps| {
+            rec.bind_pipeline(&d.overdraw[usize::from(caps)]);
+            true
+        });
+    }
+
+    /// A hybrid light's volume fragments the computation mask `mask` lets through (inside a
+    /// rendering pass over its count target, built with `overdraw`; nothing without a mask).
+    pub fn record_fragments<'a>(&'a self, rec: &mut Recorder<'a>, draws: GpuDraws<'a, '_>, mask: MaskKind) {
+        let Some(d) = &self.diagnostics else { return };
+        self.record_every_draw(rec, draws, |rec, caps| d.fragments[usize::from(caps)].bind(rec, mask));
+    }
+
+    /// Every caster's sides (both modes' draws: one has no vertices) and caps, in one batch,
+    /// each part's pipeline bound by `bind(rec, caps)` (false: the part is not drawn).
+    fn record_every_draw<'a>(
+        &'a self,
+        rec: &mut Recorder<'a>,
+        draws: GpuDraws<'a, '_>,
+        bind: impl Fn(&mut Recorder<'a>, bool) -> bool,
+    ) {
+        let GpuDraws { gpu, slot, volumes, light } = draws;
+        let Some(w) = &self.written else { return };
+        let parts: [(bool, &[JobDraw]); 2] =
+            [(false, &[JobDraw::ZFailSides, JobDraw::ZPassSides]), (true, &[JobDraw::Caps])];
+        for (caps, draws) in parts {
+            if !bind(rec, caps) {
+                continue;
+            }
+            rec.bind_descriptor_set(&self.layout, 0, &gpu.frame.set);
+            rec.bind_descriptor_set(&self.layout, 1, &slot.set);
+            for c in &volumes.casters {
+                let Some(job) = c.job else { continue };
+                rec.push_constants(&self.layout, &JobPush { object: c.object as u32, view: light, job });
+                for draw in draws {
+                    rec.draw_indirect(&w.draws, draw.offset(job));
+                }
+            }
+        }
+    }
+
+    /// Per batch of `draws`' casters, z-fail sides and caps, then z-pass sides, each drawn
+    /// indirectly for every caster that may count in that mode (its mode asked for, or
+    /// decided on the GPU: then the other mode's draws have no vertices), each part's
+    /// pipeline and dynamic state bound by `bind(rec, counting, batched, caps)`.
     fn record_counting<'a>(
         &'a self,
         rec: &mut Recorder<'a>,
@@ -338,33 +414,30 @@ impl GpuVolumes {
     ) {
         let GpuDraws { gpu, slot, volumes, light } = draws;
         let (Some(w), Some((first, jobs))) = (&self.written, &volumes.gpu) else { return };
+        let parts = [
+            (Counting::ZFail, JobDraw::ZFailSides),
+            (Counting::ZFail, JobDraw::Caps),
+            (Counting::ZPass, JobDraw::ZPassSides),
+        ];
         record_in_batches(rec, log, volumes, bits, fold, |rec, log, batch, batched| {
-            for counting in [Counting::ZFail, Counting::ZPass] {
-                let casters = batch.iter().filter(|c| c.counting == counting);
+            for (counting, part) in parts {
+                let casters = batch.iter().filter(|c| c.job.is_some() && c.counting.is_none_or(|m| m == counting));
                 if casters.clone().next().is_none() {
                     continue;
                 }
-                // Sides, then (z-fail) caps, each with its pipeline; the sets after the
-                // pipeline, as the fold between batches binds another layout.
-                let parts: &[bool] = match counting {
-                    Counting::ZFail => &[false, true],
-                    Counting::ZPass => &[false],
-                };
-                for &caps in parts {
-                    bind(rec, counting, batched, caps);
-                    rec.bind_descriptor_set(&self.layout, 0, &gpu.frame.set);
-                    rec.bind_descriptor_set(&self.layout, 1, &slot.set);
-                    for c in casters.clone() {
-                        let Some(job) = c.job else { continue };
-                        rec.push_constants(&self.layout, &JobPush { object: c.object as u32, view: light, job });
-                        match (caps, jobs.get((job as usize).wrapping_sub(*first))) {
-                            (false, _) => rec.draw_indirect(&w.draws, DRAW_STRIDE * u64::from(job)),
-                            (true, Some(j)) => {
-                                rec.draw_instanced(3 * j.triangle_count, if j.closed != 0 { 1 } else { 2 }, 0);
-                                log.count_draw(u64::from(j.triangle_count));
-                            }
-                            (true, None) => {}
-                        }
+                // The pipeline, then the sets, as the fold between batches binds another layout.
+                let caps = part == JobDraw::Caps;
+                bind(rec, counting, batched, caps);
+                rec.bind_descriptor_set(&self.layout, 0, &gpu.frame.set);
+                rec.bind_descriptor_set(&self.layout, 1, &slot.set);
+                for c in casters {
+                    let Some(job) = c.job else { continue };
+                    rec.push_constants(&self.layout, &JobPush { object: c.object as u32, view: light, job });
+                    rec.draw_indirect(&w.draws, part.offset(job));
+                    // Caps asked for in z-fail draw every triangle (edge-on ones off view).
+                    let asked = jobs.get((job as usize).wrapping_sub(*first)).filter(|_| c.counting.is_some());
+                    if let (true, Some(j)) = (caps, asked) {
+                        log.count_draw(u64::from(j.triangle_count));
                     }
                 }
             }

@@ -74,6 +74,25 @@ fn face(op: vk::StencilOp, on_depth_fail: bool) -> StencilFace {
     }
 }
 
+/// The overdraw image's pipeline for volumes from `input` (Chan–Durand Fig. 3, 10a): every
+/// volume fragment adds 1/255 to red, additively, with no depth or stencil test.
+pub(crate) fn overdraw_pipeline(
+    ctx: &Context,
+    layout: &PipelineLayout,
+    name: &str,
+    clamp: bool,
+    input: VolumeInput,
+) -> RenderResult<GraphicsPipeline> {
+    let mut desc: GraphicsPipelineDesc<'_> = zfail_desc(vk::Format::UNDEFINED, clamp, input);
+    desc.name = name;
+    desc.fragment = Some(umbra_shaders::shadow_volume::OVERDRAW_FRAG);
+    desc.stencil = None;
+    desc.depth = DepthState { clamp, ..DepthState::NONE };
+    let additive = [ColorTarget { blend: Some(Blend::ADDITIVE), ..ColorTarget::opaque(crate::COLOR_FORMAT) }];
+    desc.color_targets = &additive;
+    Ok(GraphicsPipeline::new(ctx, layout, &desc)?)
+}
+
 /// The z-fail counting pipeline (§2.1): volumes (`input`) tested against the scene's depth
 /// (`clamp`: depth clamp on), two-sided stencil with wrap ops, no colour, no depth writes.
 pub(crate) fn zfail_desc(depth_format: vk::Format, clamp: bool, input: VolumeInput) -> GraphicsPipelineDesc<'static> {
@@ -241,20 +260,11 @@ impl ShadowVolumePass {
     ) -> RenderResult<Self> {
         let clamp = settings.far_plane == FarPlane::DepthClamp;
         let counting = Counting4::new(ctx, layout, depth_format, clamp, depth_bounds, input)?;
-        let mut desc = zfail_desc(depth_format, clamp, input);
-        desc.name = "shadow volume overdraw";
         let fold =
             GraphicsPipeline::new(ctx, layout, &fold_desc("shadow volume batch fold", depth_format, FULL_STENCIL))?;
-        let overdraw = if settings.overdraw {
-            desc.fragment = Some(umbra_shaders::shadow_volume::OVERDRAW_FRAG);
-            desc.stencil = None;
-            desc.depth = DepthState { clamp, ..DepthState::NONE };
-            desc.depth_format = vk::Format::UNDEFINED;
-            let additive = [ColorTarget { blend: Some(Blend::ADDITIVE), ..ColorTarget::opaque(crate::COLOR_FORMAT) }];
-            desc.color_targets = &additive;
-            Some(GraphicsPipeline::new(ctx, layout, &desc)?)
-        } else {
-            None
+        let overdraw = match settings.overdraw {
+            true => Some(overdraw_pipeline(ctx, layout, "shadow volume overdraw", clamp, input)?),
+            false => None,
         };
         Ok(Self { counting, fold, overdraw })
     }
@@ -274,7 +284,7 @@ impl ShadowVolumePass {
         b.bind(rec);
         record_in_batches(rec, log, volumes, FULL_STENCIL, &self.fold, |rec, log, batch, batched| {
             for counting in [Counting::ZFail, Counting::ZPass] {
-                let casters = batch.iter().filter(move |c| c.counting == counting);
+                let casters = batch.iter().filter(move |c| c.counting == Some(counting));
                 if casters.clone().next().is_none() {
                     continue;
                 }

@@ -95,8 +95,9 @@ pub enum VolumeBuild {
     /// from them indirectly; the host only names the casters. The same volumes as the CPU's
     /// (`tests/gpu_volumes.rs`). For `shadow_volume` lights and the hybrid's z-fail volumes
     /// (drawn behind its computation mask); needs a graphics queue that runs compute, and
-    /// refuses host clipping and the overdraw diagnostic, which only the CPU path has. The
-    /// one path that follows meshes an engine deforms on the GPU
+    /// refuses host clipping, which only the CPU path has. In `auto` mode the GPU decides
+    /// each caster's counting mode (§3.4). The one path that follows meshes an engine
+    /// deforms on the GPU
     /// ([`crate::Shadows::add_deforming_mesh`]).
     Gpu,
 }
