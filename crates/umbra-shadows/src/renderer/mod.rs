@@ -76,6 +76,8 @@ pub struct Renderer {
     pub(crate) checked: CheckedMeshes,
     /// Each light's receiver grid samples, kept while their inputs do not change.
     grid_samples: crate::shadow_map::samples::GridSamples,
+    /// Every map light's fitted views, kept while their inputs are the same bits.
+    fits: crate::shadow_map::fits::Fits,
     /// The visibility image every shadowed light's technique writes and its lighting reads.
     visibility: VisibilityPass,
     /// How volume vertices reach the GPU: as built, or clipped to the view on the host.
@@ -233,6 +235,7 @@ impl Renderer {
             ray_stats,
             checked: CheckedMeshes::default(),
             grid_samples: Default::default(),
+            fits: Default::default(),
             visibility,
             volume_input,
             gpu_volumes,

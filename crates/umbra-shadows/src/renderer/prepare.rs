@@ -152,7 +152,7 @@ impl Renderer {
         for light in lights.iter_mut().filter(|l| uses_map(l)) {
             let plan = &mut light.plan;
             let source = &scene.lights[plan.light];
-            let Some(mut views) = frustum::fit(source, scene, &view.boxes, view.view.view_proj) else {
+            let Some(mut views) = self.fits.fit(plan.light, source, scene, &view.boxes, view.view.view_proj) else {
                 plan.note = Some("no caster can shadow a visible receiver: no shadow map rendered".into());
                 continue;
             };
