@@ -5,24 +5,18 @@
 //! hybrid's largest per-frame host cost after its grid samples (`samples.rs`), and it grows
 //! with the scene (#26). Its answer depends only on the light's position and cone, the
 //! camera's view-projection, and each object's bounds and caster/receiver flags. Those inputs
-//! are kept as bits and compared exactly, as `samples.rs` does: a light none of them changed
-//! for is not fitted again, any change fits it anew, so the views are always those a fit would
-//! give.
+//! are kept as bits and compared exactly (`kept.rs`): a light none of them changed for is not
+//! fitted again, any change fits it anew, so the views are always those a fit would give.
 
 use super::frustum::{self, LightViews};
+use super::kept::Kept;
 use glam::Mat4;
 use umbra_scene::{Aabb, Light, Scene};
-
-/// One light's last fit: the bits of its inputs and its views.
-struct Kept {
-    key: Vec<u32>,
-    views: Option<LightViews>,
-}
 
 /// Every light's last fit, by light index.
 #[derive(Default)]
 pub(crate) struct Fits {
-    lights: Vec<Option<Kept>>,
+    lights: Vec<Option<Kept<Option<LightViews>>>>,
     /// The key of the inputs being asked about (scratch, swapped with a kept one on a miss).
     current: Vec<u32>,
     /// How many times a light was fitted (tests count the misses).
@@ -62,19 +56,13 @@ impl Fits {
         if self.lights.len() <= index {
             self.lights.resize_with(index + 1, || None);
         }
-        match &mut self.lights[index] {
-            Some(kept) if kept.key == self.current => kept.views.clone(),
-            slot => {
-                #[cfg(test)]
-                {
-                    self.fitted += 1;
-                }
-                let views = frustum::fit(light, scene, boxes, view_proj);
-                let key = std::mem::take(&mut self.current);
-                let kept = slot.insert(Kept { key, views });
-                kept.views.clone()
+        Kept::answer(&mut self.lights[index], &mut self.current, || {
+            #[cfg(test)]
+            {
+                self.fitted += 1;
             }
-        }
+            frustum::fit(light, scene, boxes, view_proj)
+        })
     }
 }
 

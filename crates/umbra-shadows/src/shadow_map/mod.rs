@@ -13,6 +13,7 @@
 
 pub(crate) mod fits;
 pub(crate) mod frustum;
+mod kept;
 pub(crate) mod pass;
 pub(crate) mod samples;
 mod settings;

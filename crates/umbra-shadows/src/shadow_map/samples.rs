@@ -4,11 +4,12 @@
 //! (the report's texel size) sample 512 points per visible receiver box: about 2 ms a frame
 //! for 64 instances on 2 cores, the last host cost that grew with the scene (#26). Their answer
 //! depends only on the light's views, the receivers' seen boxes, the camera and the frame's
-//! height. Those inputs are kept as bits and compared exactly (a `-0.0` for a `0.0`, or a NaN,
-//! samples again): a light none of them moved for is not sampled again, any change samples it
-//! anew, so the answer is always the one sampling would give.
+//! height. Those inputs are kept as bits and compared exactly (`kept.rs`): a light none of them
+//! moved for is not sampled again, any change samples it anew, so the answer is always the one
+//! sampling would give.
 
 use super::frustum::{self, LightViews, Seen};
+use super::kept::Kept;
 use glam::Mat4;
 use umbra_scene::Aabb;
 
@@ -35,34 +36,11 @@ impl Key {
     }
 }
 
-/// One sampling's last key and answer.
-struct Kept<T> {
-    key: Key,
-    answer: Option<T>,
-}
-
-impl<T: Copy> Kept<T> {
-    /// The answer for `current`'s inputs: the kept one when they are the same bits, otherwise
-    /// `sample()`, kept with them. `current` is scratch storage that is swapped in on a miss.
-    fn answer(slot: &mut Option<Self>, current: &mut Key, sample: impl FnOnce() -> Option<T>) -> Option<T> {
-        match slot {
-            Some(kept) if kept.key.0 == current.0 => kept.answer,
-            _ => {
-                let answer = sample();
-                let kept = slot.get_or_insert_with(|| Kept { key: Key::default(), answer: None });
-                std::mem::swap(&mut kept.key, current);
-                kept.answer = answer;
-                answer
-            }
-        }
-    }
-}
-
 /// One light's two samplings.
 #[derive(Default)]
 struct LightSamples {
-    ratio: Option<Kept<f32>>,
-    texels: Option<Kept<[f32; 2]>>,
+    ratio: Option<Kept<Option<f32>>>,
+    texels: Option<Kept<Option<[f32; 2]>>>,
 }
 
 /// Every light's last samplings, by light index.
@@ -99,7 +77,7 @@ impl GridSamples {
         let mut current = std::mem::take(&mut self.current);
         current.fill(&views.views, &views.receivers, seen, reference);
         let mut missed = false;
-        let ratio = Kept::answer(&mut self.light(light).ratio, &mut current, || {
+        let ratio = Kept::answer(&mut self.light(light).ratio, &mut current.0, || {
             missed = true;
             frustum::texel_pixel_ratio(views, reference, seen)
         });
@@ -122,7 +100,7 @@ impl GridSamples {
         let mut current = std::mem::take(&mut self.current);
         current.fill(&views.views, &views.receivers, seen, resolution);
         let mut missed = false;
-        let range = Kept::answer(&mut self.light(light).texels, &mut current, || {
+        let range = Kept::answer(&mut self.light(light).texels, &mut current.0, || {
             missed = true;
             frustum::receiver_texel_size(&views.views, &views.receivers, resolution, seen)
         });

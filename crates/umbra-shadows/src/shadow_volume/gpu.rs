@@ -75,6 +75,10 @@ pub(crate) const MODE_ZFAIL: u32 = 2;
 /// three `VkDrawIndirectCommand`s ([`JobDraw`]), then its counts.
 pub(crate) const DRAW_WORDS: usize = 16;
 
+/// The job's first count word in the draws buffer (`DRAW_COUNTS` in `gpu_volume.glsl`), after
+/// its three draws: its edge-on faces, then its mode.
+const COUNTS_WORD: usize = 12;
+
 /// Bytes per job in the draws buffer.
 pub(crate) const DRAW_STRIDE: u64 = 4 * DRAW_WORDS as u64;
 
@@ -128,17 +132,22 @@ impl JobCounts {
     pub fn read(words: &[u32], job: &VolumeJob, index: usize) -> Self {
         use super::build::Counting;
         let at = |k: usize| words.get(DRAW_WORDS * index + k).copied().unwrap_or(0);
-        let mode = match at(13) {
+        // Each draw's vertex count is its first word; the counts (edge-on faces, mode) follow
+        // the three draws.
+        let vertices = |draw: JobDraw| at(4 * draw as usize);
+        let (edge_on, mode) = (at(COUNTS_WORD), at(COUNTS_WORD + 1));
+        let mode = match mode {
             MODE_ZPASS => Some(Counting::ZPass),
             MODE_ZFAIL => Some(Counting::ZFail),
             _ => None,
         };
         let cap_triangles = match (mode, job.closed) {
-            (Some(Counting::ZFail), 0) => 2 * job.faces.saturating_sub(at(12)),
+            (Some(Counting::ZFail), 0) => 2 * job.faces.saturating_sub(edge_on),
             (Some(Counting::ZFail), _) => job.faces,
             _ => 0,
         };
-        Self { silhouette_edges: (at(0) + at(4)) / 6, cap_triangles, mode }
+        let side_vertices = vertices(JobDraw::ZFailSides) + vertices(JobDraw::ZPassSides);
+        Self { silhouette_edges: side_vertices / 6, cap_triangles, mode }
     }
 }
 

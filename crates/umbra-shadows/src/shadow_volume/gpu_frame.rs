@@ -18,7 +18,7 @@
 //! initial values are the frame slot's, written by the host each frame (`Streams`).
 
 use super::batches::{record_in_batches, CountBits, FULL_STENCIL};
-use super::build::{Counting, LightVolumes};
+use super::build::{CasterVolume, Counting, LightVolumes};
 use super::deform::{DeformCopies, DeformPipeline};
 use super::gpu::{AdjacencyArrays, GpuSilhouettes, JobDraw, MeshRange, DRAW_STRIDE};
 use super::pass::{overdraw_pipeline, Counting4, VolumeInput};
@@ -379,22 +379,11 @@ impl GpuVolumes {
         draws: GpuDraws<'a, '_>,
         bind: impl Fn(&mut Recorder<'a>, bool) -> bool,
     ) {
-        let GpuDraws { gpu, slot, volumes, light } = draws;
-        let Some(w) = &self.written else { return };
         let parts: [(bool, &[JobDraw]); 2] =
             [(false, &[JobDraw::ZFailSides, JobDraw::ZPassSides]), (true, &[JobDraw::Caps])];
-        for (caps, draws) in parts {
-            if !bind(rec, caps) {
-                continue;
-            }
-            rec.bind_descriptor_set(&self.layout, 0, &gpu.frame.set);
-            rec.bind_descriptor_set(&self.layout, 1, &slot.set);
-            for c in &volumes.casters {
-                let Some(job) = c.job else { continue };
-                rec.push_constants(&self.layout, &JobPush { object: c.object as u32, view: light, job });
-                for draw in draws {
-                    rec.draw_indirect(&w.draws, draw.offset(job));
-                }
+        for (caps, parts) in parts {
+            if bind(rec, caps) {
+                self.draw_casters(rec, draws, &draws.volumes.casters, parts);
             }
         }
     }
@@ -412,8 +401,8 @@ impl GpuVolumes {
         log: &mut PassLog,
         bind: impl Fn(&mut Recorder<'a>, Counting, bool, bool),
     ) {
-        let GpuDraws { gpu, slot, volumes, light } = draws;
-        let (Some(w), Some((first, jobs))) = (&self.written, &volumes.gpu) else { return };
+        let volumes = draws.volumes;
+        let Some((first, jobs)) = &volumes.gpu else { return };
         let parts = [
             (Counting::ZFail, JobDraw::ZFailSides),
             (Counting::ZFail, JobDraw::Caps),
@@ -428,20 +417,35 @@ impl GpuVolumes {
                 // The pipeline, then the sets, as the fold between batches binds another layout.
                 let caps = part == JobDraw::Caps;
                 bind(rec, counting, batched, caps);
-                rec.bind_descriptor_set(&self.layout, 0, &gpu.frame.set);
-                rec.bind_descriptor_set(&self.layout, 1, &slot.set);
-                for c in casters {
-                    let Some(job) = c.job else { continue };
-                    rec.push_constants(&self.layout, &JobPush { object: c.object as u32, view: light, job });
-                    rec.draw_indirect(&w.draws, part.offset(job));
-                    // Caps asked for in z-fail draw every triangle (edge-on ones off view).
-                    let asked = jobs.get((job as usize).wrapping_sub(*first)).filter(|_| c.counting.is_some());
-                    if let (true, Some(j)) = (caps, asked) {
-                        log.count_draw(u64::from(j.triangle_count));
-                    }
+                self.draw_casters(rec, draws, casters.clone(), &[part]);
+                // Caps asked for in z-fail draw every triangle (edge-on ones off view).
+                let asked = casters.filter(|c| caps && c.counting.is_some());
+                for j in asked.filter_map(|c| jobs.get((c.job? as usize).wrapping_sub(*first))) {
+                    log.count_draw(u64::from(j.triangle_count));
                 }
             }
         });
+    }
+
+    /// The bound pipeline's draws `parts` of each of `casters` built on the GPU, after binding
+    /// the scene's and the slot's sets.
+    fn draw_casters<'a, 'c>(
+        &'a self,
+        rec: &mut Recorder<'a>,
+        draws: GpuDraws<'a, '_>,
+        casters: impl IntoIterator<Item = &'c CasterVolume>,
+        parts: &[JobDraw],
+    ) {
+        let Some(w) = &self.written else { return };
+        rec.bind_descriptor_set(&self.layout, 0, &draws.gpu.frame.set);
+        rec.bind_descriptor_set(&self.layout, 1, &draws.slot.set);
+        for c in casters {
+            let Some(job) = c.job else { continue };
+            rec.push_constants(&self.layout, &JobPush { object: c.object as u32, view: draws.light, job });
+            for part in parts {
+                rec.draw_indirect(&w.draws, part.offset(job));
+            }
+        }
     }
 }
 
