@@ -52,7 +52,7 @@ fi
 tmp="target/results/gpu-results-$$"
 rm -rf "$tmp"
 started=$(date +%s)
-"$bench" poster --size 512x384 --out "$tmp/poster"
+"$bench" poster --size 512x384 --spot-lights --out "$tmp/poster"
 device=$(sed -n 's/^  "device": "\(.*\)",$/\1/p' "$tmp/poster/poster.json" | head -n 1)
 if [ -z "${UMBRA_GPU_SWEEP_ARGS:-}" ] && echo "$device" | grep -q -i -E 'llvmpipe|swiftshader'; then
     echo "gpu-results: the device is $device, a CPU driver: no GPU here (ci/results.sh is for CPU drivers)" >&2

@@ -3,15 +3,18 @@
 //! `shadow_map N`, `silhouette_map N` and `light N` passes, silhouette edges drawn and the
 //! silhouette-pixel fraction per light).
 //!
-//! Silhouette maps need one 2D map per light: point lights become spot lights aimed at the
-//! scene's centre, with a cone around its bounds (the example says so).
+//! Point lights (and spots wider than 80°) get cube silhouette maps: six 90° faces side by side
+//! in one 2D atlas (three columns, two rows), each face with a two-texel border beyond its
+//! interior so that a lookup never reads another face.
 //!
 //! With `--debug-view`, per light N also:
 //! - `silhouette_map-points-N.png`: the stored silhouette points over the scene (Sen Fig. 9,
 //!   middle), red where a pixel lies on a point;
 //! - `silhouette_map-classes-N.png`: per pixel, decided by the depth comparisons (red
 //!   shadowed, blue lit) or by the silhouette points (black shadowed, green lit);
-//! - `silhouette_map-N.exr`: the silhouette map itself, texel-local points in R and G.
+//! - `silhouette_map-N.exr`: the silhouette map itself, texel-local points in R and G;
+//! - `silhouette_map-texels-N.png`: the map's texels holding a point, white (a point light's
+//!   six faces, three across and two down, outlined in blue).
 //!
 //! ```text
 //! cargo run --release --example silhouette_map -- --scene cubes --sm-size 512 --debug-view
@@ -40,9 +43,6 @@ struct Args {
     debug_view: bool,
 }
 
-/// Widest cone a 2D map takes (the renderer uses a cube map beyond it).
-const MAX_CONE_DEG: f32 = 80.0;
-
 fn write_debug_views(args: &Args, frame: &umbra::shadows::Frame, d: &LightDiagnostics) -> anyhow::Result<()> {
     let (w, h) = (frame.width, frame.height);
     let out = &args.common.out;
@@ -54,17 +54,30 @@ fn write_debug_views(args: &Args, frame: &umbra::shadows::Frame, d: &LightDiagno
     println!("wrote {} and {}", points.display(), classes.display());
     if let Some(map) = &d.silhouette_map {
         let exr_path = out.join(format!("silhouette_map-{}.exr", d.light));
-        let res = map.resolution as usize;
-        exr::prelude::write_rgb_file(&exr_path, res, res, |x, y| {
-            let [u, v] = map.points[y * res + x];
+        exr::prelude::write_rgb_file(&exr_path, map.width as usize, map.height as usize, |x, y| {
+            let [u, v] = map.point(x as u32, y as u32);
             (u, v, 0.0f32)
         })
         .with_context(|| format!("writing {}", exr_path.display()))?;
+        // Where the points are, over the whole map; a point light's six faces (three across,
+        // two down) are outlined in blue.
+        let texels_path = out.join(format!("silhouette_map-texels-{}.png", d.light));
+        let face = if map.width == map.height { map.width } else { map.height / 2 };
+        let texels: Vec<u8> = (0..map.height)
+            .flat_map(|y| (0..map.width).map(move |x| (x, y)))
+            .flat_map(|(x, y)| match map.point(x, y) {
+                [0.5, 0.5] if x % face == 0 || y % face == 0 => [40, 70, 160, 255],
+                [0.5, 0.5] => [24, 24, 24, 255],
+                _ => [255, 255, 255, 255],
+            })
+            .collect();
+        common::save_rgba(&texels_path, &texels, map.width, map.height)?;
         println!(
-            "wrote {} ({} of {} texels hold a silhouette point)",
+            "wrote {} and {} ({} of {} texels hold a silhouette point)",
             exr_path.display(),
+            texels_path.display(),
             map.silhouette_texels(),
-            res * res
+            map.points.len()
         );
     }
     Ok(())
@@ -73,10 +86,7 @@ fn write_debug_views(args: &Args, frame: &umbra::shadows::Frame, d: &LightDiagno
 fn main() -> anyhow::Result<()> {
     common::init_logging();
     let args = Args::parse();
-    let mut scene = args.common.scene_with(Technique::SilhouetteMap)?;
-    for i in scene.point_lights_to_spots(MAX_CONE_DEG) {
-        println!("light {i}: point light made a spot aimed at the scene centre (silhouette maps need a 2D map)");
-    }
+    let scene = args.common.scene_with(Technique::SilhouetteMap)?;
     let (width, height) = args.common.size;
     let mut desc = RendererDesc::new(width, height);
     desc.shadow_map = ShadowMapSettings { resolution: args.sm_size, ..ShadowMapSettings::DEFAULT };
@@ -90,9 +100,13 @@ fn main() -> anyhow::Result<()> {
     let mut renderer = Renderer::new(&ctx, desc)?;
     let frame = common::render_warm(&mut renderer, &scene, &args.common)?;
     for l in &frame.report.lights {
+        let faces = match l.shadow_map.as_ref().is_some_and(|m| m.cube) {
+            true => "6 × ",
+            false => "",
+        };
         match (&l.silhouette_map, &l.note) {
             (Some(m), _) => println!(
-                "light {}: {}² silhouette map, {} silhouette edges ({:.2} ms CPU), silhouette pixels {} ({:.2}% of the image)",
+                "light {}: {faces}{}² silhouette map, {} silhouette edges ({:.2} ms CPU), silhouette pixels {} ({:.2}% of the image)",
                 l.light,
                 m.resolution,
                 m.silhouette_edges,

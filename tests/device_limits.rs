@@ -50,6 +50,14 @@ fn cubes_spot() -> Scene {
     s
 }
 
+/// `cubes` with silhouette maps: its point light's depth and silhouette maps are face
+/// atlases, three faces (each with a two-texel border) across.
+fn cubes_silhouette() -> Scene {
+    let mut s = cubes();
+    s.lights[0].technique = Technique::SilhouetteMap;
+    s
+}
+
 #[test]
 fn more_objects_than_max_storage_buffer_range_holds_are_a_typed_error_before_any_gpu_work() {
     common::with_context(|ctx| {
@@ -138,9 +146,12 @@ fn shadow_maps_over_every_device_limit_are_typed_errors_before_any_allocation() 
             cases.push((cubes(), 32768, resource));
             cases.push((cubes(), 16384, resource));
             cases.push((cubes_spot(), 16385, Some("maxImageDimension2D")));
+            // Three faces of 5458 + 4 texels across are 16386, over the atlas's 16384.
+            cases.push((cubes_silhouette(), 16384 / 3 - 4 + 1, Some("maxImageDimension2D")));
         } else if is_swiftshader(ctx) {
             cases.push((cubes_spot(), 8256, Some("maxFramebufferWidth")));
             cases.push((cubes(), 16385, Some("maxFramebufferWidth")));
+            cases.push((cubes_silhouette(), 8192 / 3 - 4 + 1, Some("maxFramebufferWidth")));
         } else {
             panic!("this suite runs on llvmpipe or swiftshader; got {} (set UMBRA_DEVICE)", caps.device_name);
         }

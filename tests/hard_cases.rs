@@ -113,6 +113,7 @@ hard_case! {
     case_27_384_overlapping_volumes => "27-384-overlapping-volumes",
     case_28_thin_parts_on_a_large_floor => "28-thin-parts-on-a-large-floor",
     case_29_near_plane_slices_an_occluder_under_a_low_sun => "29-near-plane-slices-an-occluder-under-a-low-sun",
+    case_30_point_light_in_a_room_of_occluders => "30-point-light-in-a-room-of-occluders",
 }
 
 /// Adds a spot light to `s` with its cone changed by `f`.

@@ -47,7 +47,6 @@ fn a_scene_without_casters_records_no_shadow_pass() {
         let (mut planned, mut unplanned) = (renderer(ctx, true, true), renderer(ctx, false, true));
         for technique in [Technique::ShadowMap, Technique::ShadowVolume, Technique::SilhouetteMap, Technique::Hybrid] {
             let mut scene = umbra::scene::load("ball").unwrap();
-            scene.point_lights_to_spots(60.0);
             scene.lights[0].technique = technique;
             for o in &mut scene.objects {
                 o.casts_shadows = false;
@@ -135,9 +134,6 @@ fn planned_images_are_bit_identical_to_no_cull() {
             for bounded in [false, true] {
                 for technique in techniques {
                     let mut scene = base.clone();
-                    if technique == Technique::SilhouetteMap {
-                        scene.point_lights_to_spots(80.0);
-                    }
                     for l in &mut scene.lights {
                         l.technique = technique;
                         if bounded && l.range.is_none() {

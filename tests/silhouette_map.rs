@@ -9,7 +9,7 @@ mod common;
 use common::raycast::{distance_to_boundary, hit_plane_y, inside_convex, pixel_ray};
 use glam::{Mat4, Quat, Vec2, Vec3};
 use umbra::scene::{primitives, Camera, Light, Mesh, Scene, Technique};
-use umbra::shadows::{Frame, PixelClass, RenderError, Renderer, RendererDesc, ShadowFilter, ShadowMapSettings};
+use umbra::shadows::{Frame, PixelClass, Renderer, RendererDesc, ShadowFilter, ShadowMapSettings};
 use umbra::vk::Context;
 
 const SIZE: u32 = 256;
@@ -36,10 +36,11 @@ fn floor_scene(name: &str, technique: Technique) -> Scene {
     s
 }
 
-/// A 2 × 2 square caster at `height`, turned `turn_deg` about y, seen by nobody but the light.
-fn add_square(s: &mut Scene, height: f32, turn_deg: f32, half: f32) -> Vec<Vec2> {
+/// A square caster of half-side `half` centred at `at`, turned `turn_deg` about y, seen by
+/// nobody but the light; its corners (x, z).
+fn add_square(s: &mut Scene, at: Vec3, turn_deg: f32, half: f32) -> Vec<Vec2> {
     let quad = s.add_mesh(primitives::plane(2.0 * half));
-    let t = Mat4::from_rotation_translation(Quat::from_rotation_y(turn_deg.to_radians()), Vec3::Y * height);
+    let t = Mat4::from_rotation_translation(Quat::from_rotation_y(turn_deg.to_radians()), at);
     s.add_object(quad, t, Vec3::splat(0.3)).receives_shadows = false;
     [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
         .iter()
@@ -63,11 +64,16 @@ fn texel(frame: &Frame) -> f32 {
     0.5 * (tx + ty)
 }
 
-/// The largest distance, in texels, of a misclassified floor pixel from the boundary of the
-/// `shadow` polygon, and the numbers of compared and shadowed pixels.
-fn worst_misclassified(frame: &Frame, camera: &Camera, shadow: &[Vec2]) -> (f32, usize, usize) {
+/// The largest distance, in texels (`texel` gives a texel's world size on the floor at a
+/// point), of a misclassified floor pixel from the boundary of the `shadow` polygon, and the
+/// numbers of compared and shadowed pixels.
+fn worst_misclassified(
+    frame: &Frame,
+    camera: &Camera,
+    shadow: &[Vec2],
+    texel: impl Fn(Vec2) -> f32,
+) -> (f32, usize, usize) {
     let view_proj = camera.view_proj(1.0);
-    let texel = texel(frame);
     let (mut worst, mut compared, mut shadowed) = (0.0f32, 0, 0);
     for y in 0..SIZE {
         for x in 0..SIZE {
@@ -79,7 +85,7 @@ fn worst_misclassified(frame: &Frame, camera: &Camera, shadow: &[Vec2]) -> (f32,
             compared += 1;
             shadowed += usize::from(expected);
             if expected != rendered {
-                worst = worst.max(distance_to_boundary(shadow, q) / texel);
+                worst = worst.max(distance_to_boundary(shadow, q) / texel(q));
             }
         }
     }
@@ -93,7 +99,7 @@ fn a_straight_edge_at_30_degrees_is_reconstructed_within_a_quarter_texel() {
         let mut errors = Vec::new();
         for technique in [Technique::ShadowMap, Technique::SilhouetteMap] {
             let mut s = floor_scene("edge at 30 degrees", technique);
-            let square = add_square(&mut s, 1.0, 30.0, 1.0);
+            let square = add_square(&mut s, Vec3::Y, 30.0, 1.0);
             // The middle of one edge, away from the corners; about 20 texels in view.
             let centre = (square[0] + square[1]) * 0.5;
             s.camera = camera_below(centre, 0.45);
@@ -104,12 +110,60 @@ fn a_straight_edge_at_30_degrees_is_reconstructed_within_a_quarter_texel() {
                 image::save_buffer(path, &d.classification, SIZE, SIZE, image::ColorType::Rgba8).unwrap();
             }
             frame.save_png(&common::output_dir("silhouette_map").join(format!("edge-30-{name}.png"))).unwrap();
-            let (worst, compared, shadowed) = worst_misclassified(&frame, &s.camera, &square);
-            let corner_distance =
-                square.iter().map(|c| c.distance(centre)).fold(f32::INFINITY, f32::min) / texel(&frame);
+            let texel = texel(&frame);
+            let (worst, compared, shadowed) = worst_misclassified(&frame, &s.camera, &square, |_| texel);
+            let corner_distance = square.iter().map(|c| c.distance(centre)).fold(f32::INFINITY, f32::min) / texel;
             println!(
                 "{name:>14}, {resolution}² map: worst misclassified pixel {worst:.3} texel from the edge \
                  ({shadowed} of {compared} pixels in shadow; nearest corner {corner_distance:.1} texels away)"
+            );
+            assert!(shadowed > compared / 4 && shadowed < 3 * compared / 4, "the edge crosses the view");
+            errors.push(worst);
+        }
+        let (map, silhouette) = (errors[0], errors[1]);
+        assert!((0.35..=1.5).contains(&map), "the shadow map's staircase should reach about a texel, got {map}");
+        assert!(silhouette <= 0.25, "silhouette map: a pixel {silhouette} texel from the edge is wrong");
+    });
+}
+
+/// The 30° edge under a point light, crossing the seam between the cube's −y face (the floor
+/// below the light) and its +x face: the face atlas must reconstruct it on both sides of the
+/// seam as the 2D map does, without a crack or a doubled edge where the faces meet.
+#[test]
+fn a_straight_edge_across_a_cube_seam_is_reconstructed_within_a_quarter_texel() {
+    common::with_context(|ctx| {
+        let (resolution, light_height, caster_height) = (64, 2.0, 1.0);
+        let mut errors = Vec::new();
+        for technique in [Technique::ShadowMap, Technique::SilhouetteMap] {
+            let mut s = floor_scene("edge across a cube seam", technique);
+            let mut light = Light::point(Vec3::Y * light_height, 40.0);
+            light.technique = technique;
+            s.lights = vec![light];
+            // The square's shadow is the square scaled by H / (H - h) about the light's foot;
+            // place it so its first edge's middle lies on the seam (x = H on the floor).
+            let scale = light_height / (light_height - caster_height);
+            let edge_middle = Quat::from_rotation_y(30f32.to_radians()) * Vec3::new(0.0, 0.0, -1.0);
+            let at = Vec3::new(light_height, 0.0, 0.3) / scale - edge_middle;
+            let caster = add_square(&mut s, Vec3::new(at.x, caster_height, at.z), 30.0, 1.0);
+            let shadow: Vec<Vec2> = caster.iter().map(|c| *c * scale).collect();
+            let seam = (shadow[0] + shadow[1]) * 0.5;
+            assert!((seam.x - light_height).abs() < 1e-4, "the edge crosses the seam at {seam}");
+            s.camera = camera_below(seam, 0.45);
+            let frame = render(ctx, &s, resolution, technique == Technique::SilhouetteMap);
+            let name = technique.name();
+            frame.save_png(&common::output_dir("silhouette_map").join(format!("edge-seam-{name}.png"))).unwrap();
+            for d in &frame.diagnostics {
+                let path = common::output_dir("silhouette_map").join("edge-seam-classes.png");
+                image::save_buffer(path, &d.classification, SIZE, SIZE, image::ColorType::Rgba8).unwrap();
+            }
+            // A texel's smaller side on the floor: 2H / N in the −y face, whose image plane is
+            // parallel to the floor; 2m / N at horizontal distance m > H, in a side face.
+            let texel = |q: Vec2| 2.0 * q.abs().max_element().max(light_height) / resolution as f32;
+            let (worst, compared, shadowed) = worst_misclassified(&frame, &s.camera, &shadow, texel);
+            let corner_distance = shadow.iter().map(|c| c.distance(seam)).fold(f32::INFINITY, f32::min) / texel(seam);
+            println!(
+                "{name:>14}, 6 × {resolution}² cube: worst misclassified pixel {worst:.3} texel from an edge crossing \
+                 the −y/+x seam ({shadowed} of {compared} pixels in shadow; nearest corner {corner_distance:.1} texels away)"
             );
             assert!(shadowed > compared / 4 && shadowed < 3 * compared / 4, "the edge crosses the view");
             errors.push(worst);
@@ -127,9 +181,9 @@ fn a_hidden_silhouette_is_not_stored_and_does_not_change_the_shadow() {
         // hidden square's edges cross texels whose corners all see the big square.
         let build = |with_hidden: bool| {
             let mut s = floor_scene("hidden silhouette", Technique::SilhouetteMap);
-            let big = add_square(&mut s, 2.0, 10.0, 1.0);
+            let big = add_square(&mut s, Vec3::Y * 2.0, 10.0, 1.0);
             if with_hidden {
-                add_square(&mut s, 1.2, 37.0, 0.55);
+                add_square(&mut s, Vec3::Y * 1.2, 37.0, 0.55);
             }
             // The big shadow's edge and, inside it, where the hidden square's edges project.
             s.camera = camera_below((big[0] + big[1]) * 0.5 * 0.6, 0.6);
@@ -182,7 +236,7 @@ fn degenerate_edges_store_no_nan_and_no_point_outside_its_texel() {
     common::with_context(|ctx| {
         let mut s = floor_scene("degenerate edges", Technique::SilhouetteMap);
         degenerate_casters(&mut s);
-        add_square(&mut s, 2.0, 0.0, 0.1); // keeps the map's extent sane around the needle
+        add_square(&mut s, Vec3::Y * 2.0, 0.0, 0.1); // keeps the map's extent sane around the needle
         s.camera = camera_below(Vec2::ZERO, 1.0);
         let frame = render(ctx, &s, 128, true);
         let map = frame.diagnostics[0].silhouette_map.as_ref().expect("read back");
@@ -198,17 +252,6 @@ fn degenerate_edges_store_no_nan_and_no_point_outside_its_texel() {
         assert!(map.silhouette_texels() > 0, "the casters' outlines were stored");
         assert!(bad.is_empty(), "points outside [0, 1]² or not finite: {bad:?}");
         assert!(frame.rgba.chunks_exact(4).all(|p| p[3] == 255), "every pixel was written");
-    });
-}
-
-#[test]
-fn point_lights_are_a_typed_error() {
-    common::with_context(|ctx| {
-        let mut s = umbra::scene::procedural::build("ball").unwrap();
-        s.lights[0].technique = Technique::SilhouetteMap;
-        let err = Renderer::new(ctx, RendererDesc::new(64, 48)).unwrap().render(&s).unwrap_err();
-        println!("{err}");
-        assert!(matches!(err, RenderError::UnsupportedLight { technique: Technique::SilhouetteMap, .. }));
     });
 }
 
@@ -228,14 +271,29 @@ fn differing(a: &Frame, b: &Frame, classes: &[u8], tolerance: u8) -> usize {
 
 #[test]
 fn on_spot_lit_scenes_silhouette_maps_agree_with_shadow_volumes_better_than_shadow_maps() {
+    // The largest ratio of the silhouette map's disagreement to the shadow map's: the pins'
+    // outlines cross each other in the map (two silhouettes in one texel, Sen Fig. 7).
+    agree_with_shadow_volumes(true, &[("cylinder", 0.5), ("pins", 0.8)]);
+}
+
+#[test]
+fn on_point_lit_scenes_cube_silhouette_maps_agree_with_shadow_volumes_better_than_shadow_maps() {
+    // The same scenes with their point lights kept: each light's six faces share one atlas.
+    agree_with_shadow_volumes(false, &[("cylinder", 0.5), ("pins", 0.8)]);
+}
+
+/// Renders each scene with shadow volumes, a shadow map and a silhouette map (512² per face)
+/// and asserts that the silhouette map disagrees with the volumes on fewer than `ratio` times
+/// the shadow map's pixels; `spots` turns the scenes' point lights into 80° spots first.
+fn agree_with_shadow_volumes(spots: bool, cases: &[(&str, f64)]) {
     common::with_context(|ctx| {
-        // The largest ratio of the silhouette map's disagreement to the shadow map's: the pins'
-        // outlines cross each other in the map (two silhouettes in one texel, Sen Fig. 7).
-        for (name, ratio) in [("cylinder", 0.5), ("pins", 0.8)] {
+        for &(name, ratio) in cases {
             let mut frames = Vec::new();
             for technique in [Technique::ShadowVolume, Technique::ShadowMap, Technique::SilhouetteMap] {
                 let mut s = umbra::scene::procedural::build(name).unwrap();
-                assert_eq!(s.point_lights_to_spots(80.0), vec![0]);
+                if spots {
+                    assert_eq!(s.point_lights_to_spots(80.0), vec![0]);
+                }
                 s.lights[0].technique = technique;
                 // Shadows compared on the floor only (the classification view's receivers): on
                 // the casters' curved sides, shadow volumes show the mesh's polygonal
@@ -244,7 +302,7 @@ fn on_spot_lit_scenes_silhouette_maps_agree_with_shadow_volumes_better_than_shad
                     o.receives_shadows = false;
                 }
                 let frame = render(ctx, &s, 512, technique == Technique::SilhouetteMap);
-                let file = format!("{name}-{}.png", technique.name());
+                let file = format!("{name}-{}{}.png", technique.name(), if spots { "-spot" } else { "-point" });
                 frame.save_png(&common::output_dir("silhouette_map").join(file)).unwrap();
                 frames.push(frame);
             }
@@ -253,7 +311,7 @@ fn on_spot_lit_scenes_silhouette_maps_agree_with_shadow_volumes_better_than_shad
             let silhouette = differing(&frames[0], &frames[2], classes, 24);
             let fraction = frames[2].report.lights[0].silhouette_map.as_ref().and_then(|m| m.silhouette_fraction);
             println!(
-                "{name}: pixels differing from shadow volumes: shadow map {map}, silhouette map {silhouette} (of {}); \
+                "{name} (spots {spots}): pixels differing from shadow volumes: shadow map {map}, silhouette map {silhouette} (of {}); \
                  silhouette pixels {:.2}%",
                 SIZE * SIZE,
                 100.0 * fraction.unwrap_or(0.0)

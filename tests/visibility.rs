@@ -12,9 +12,6 @@ use umbra::shadows::{Frame, PassId, Renderer, RendererDesc, ShadowFilter};
 
 fn render(ctx: &umbra::vk::Context, desc: RendererDesc, scene: &str, technique: Technique) -> Frame {
     let mut scene = umbra::scene::load(scene).expect("scene");
-    if technique == Technique::SilhouetteMap {
-        scene.point_lights_to_spots(80.0);
-    }
     for light in &mut scene.lights {
         light.technique = technique;
     }

@@ -36,9 +36,6 @@ fn warm_frames_allocate_nothing_and_submit_once() {
                 for (variant, desc) in variants() {
                     let mut renderer = Renderer::new(ctx, desc).expect("renderer");
                     let mut scene = umbra::scene::load(scene_name).expect("scene");
-                    if technique == Technique::SilhouetteMap {
-                        scene.point_lights_to_spots(80.0);
-                    }
                     for light in &mut scene.lights {
                         light.technique = technique;
                     }

@@ -280,7 +280,8 @@ impl Viewer {
         let frame = match self.renderer.render(&self.scene) {
             Ok(f) => f,
             Err(e @ RenderError::UnsupportedLight { .. }) => {
-                // E.g. silhouette maps asked of a point light: back to the example's techniques.
+                // E.g. ray tracing asked of a device without ray queries: back to the example's
+                // techniques.
                 self.message = Some(e.to_string());
                 self.settings.technique = None;
                 return Ok(true);

@@ -18,9 +18,10 @@ struct Light {
     vec4 spot_direction; // xyz = axis the spot shines along, w = cos(outer angle)
     vec4 spot_params;    // x = cos(inner angle), y = 1 for a spot light,
                          // z = shadow kind (SHADOW_NONE, SHADOW_2D, SHADOW_CUBE,
-                         //      SHADOW_SILHOUETTE),
+                         //      SHADOW_SILHOUETTE, SHADOW_SILHOUETTE_CUBE),
                          // w = index of its first view in `shadow_views`
-    vec4 shadow_params;  // x = normal offset (world units), y = shadow-map texel size (1/res),
+    vec4 shadow_params;  // x = normal offset (world units), y = shadow-map texel size (1/res;
+                         //     a face atlas: 1 / a face's side, border included),
                          // z = near, w = far of perspective maps (spot, cube faces)
 };
 
@@ -28,6 +29,7 @@ const uint SHADOW_NONE = 0u;
 const uint SHADOW_2D = 1u;
 const uint SHADOW_CUBE = 2u;
 const uint SHADOW_SILHOUETTE = 3u; // a 2D depth map plus its silhouette map
+const uint SHADOW_SILHOUETTE_CUBE = 4u; // both as face atlases (shadow_map/atlas.glsl)
 
 layout(set = 0, binding = 0, std140) uniform Frame {
     mat4 view_proj;

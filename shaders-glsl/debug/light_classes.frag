@@ -33,7 +33,7 @@ void main() {
     }
     bool reconstructed = false;
     float visibility;
-    if (uint(l.spot_params.z) == SHADOW_SILHOUETTE) {
+    if (silhouette_light(l)) {
         visibility = silhouette_visibility(l, world_position, n, reconstructed);
     } else {
         visibility = shadow_visibility(l, world_position, n);

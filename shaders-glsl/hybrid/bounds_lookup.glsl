@@ -7,24 +7,13 @@
 #ifndef UMBRA_HYBRID_BOUNDS_LOOKUP_GLSL
 #define UMBRA_HYBRID_BOUNDS_LOOKUP_GLSL
 
+#include "common/cube.glsl"
 #include "hybrid/bounds.glsl"
 
 layout(constant_id = 1) const bool OUTSIDE_LIT = true;
 
 // Layer 2 f holds face f's nearest bounds, 2 f + 1 its covering bounds.
 layout(set = 1, binding = 4) uniform sampler2DArray hybrid_bounds;
-
-// Vulkan's cube face for direction v (+X, -X, +Y, -Y, +Z, -Z): its view holds v's ray.
-uint cube_face(vec3 v) {
-    vec3 a = abs(v);
-    if (a.x >= a.y && a.x >= a.z) {
-        return v.x >= 0.0 ? 0u : 1u;
-    }
-    if (a.y >= a.z) {
-        return v.y >= 0.0 ? 2u : 3u;
-    }
-    return v.z >= 0.0 ? 4u : 5u;
-}
 
 const float CERTAINLY_SHADOWED = 0.0;
 const float CERTAINLY_LIT = 1.0;
@@ -33,7 +22,8 @@ const float IN_QUESTION = -1.0;
 // CERTAINLY_LIT, CERTAINLY_SHADOWED or IN_QUESTION for receiver p of light l.
 float bounded_visibility(Light l, vec3 p) {
     bool cube = uint(l.spot_params.z) == SHADOW_CUBE;
-    uint face = cube ? cube_face(p - l.position.xyz) : 0u;
+    float major;
+    uint face = cube ? cube_face(p - l.position.xyz, major) : 0u;
     vec4 clip = shadow_views[uint(l.spot_params.w) + face] * vec4(p, 1.0);
     if (clip.w <= 0.0) {
         return IN_QUESTION;

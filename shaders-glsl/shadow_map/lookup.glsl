@@ -109,7 +109,9 @@ float lookup_cube(Light l, vec3 p) {
 }
 
 // 1 = lit, 0 = shadowed, in between on filtered edges. `n` is the unit geometric normal
-// facing the light's side; the normal offset moves the lookup point along it.
+// facing the light's side; the normal offset moves the lookup point along it. Silhouette-map
+// lights (SHADOW_SILHOUETTE, SHADOW_SILHOUETTE_CUBE) are looked up by silhouette_visibility
+// (silhouette_map/lookup.glsl), never here.
 float shadow_visibility(Light l, vec3 p, vec3 n) {
     uint kind = uint(l.spot_params.z);
     if (kind == SHADOW_NONE) {

@@ -41,12 +41,10 @@ void main() {
     } else {
         out_class = v > 0.5 ? CLASS_MAP_LIT : CLASS_MAP_SHADOWED;
     }
-    ivec2 cell;
-    vec2 s;
-    float depth;
-    if (silhouette_cell(l, world_position, cell, s, depth)) {
-        vec2 stored = silhouette_point(cell, int(round(1.0 / l.shadow_params.y)));
-        if (stored != DEFAULT_POINT && distance(stored, s) < POINT_RADIUS) {
+    SilhouetteCell c;
+    if (silhouette_cell(l, world_position, c)) {
+        vec2 stored = silhouette_point(c, c.cell);
+        if (stored != DEFAULT_POINT && distance(stored, c.local) < POINT_RADIUS) {
             out_points = vec4(1.0, 0.0, 0.0, 1.0);
         }
     }

@@ -36,11 +36,13 @@ vec3 to_map(vec4 clip, float res) {
 
 void main() {
     Light l = lights[push.view];
-    mat4 view_proj = shadow_views[uint(l.spot_params.w)];
+    // `push.object` is the face of a face atlas (0 for a 2D map); the viewport is its tile.
+    mat4 view_proj = shadow_views[uint(l.spot_params.w) + push.object];
     float res = 1.0 / l.shadow_params.y;
     vec4 ca = view_proj * vec4(edge_a, 1.0);
     vec4 cb = view_proj * vec4(edge_b, 1.0);
-    // Clip to the map's near plane (w = near for a spot; an orthographic map has w = 1):
+    // Clip to the map's near plane (w = near for a spot or a cube face; an orthographic map
+    // has w = 1):
     // nothing nearer is in the depth map, and w <= 0 would not project.
     float w_min = l.position.w == 0.0 ? 0.0 : l.shadow_params.z;
     bool keep = ca.w >= w_min || cb.w >= w_min;

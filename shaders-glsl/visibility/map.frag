@@ -13,7 +13,7 @@ void main() {
         return;
     }
     float v;
-    if (uint(l.spot_params.z) == SHADOW_SILHOUETTE) {
+    if (silhouette_light(l)) {
         bool reconstructed;
         v = silhouette_visibility(l, world_position, n, reconstructed);
     } else {

@@ -22,6 +22,8 @@ pub struct BvhArgs {
     /// eight boxes).
     #[arg(long, default_value = "binary")]
     bvh: BvhLayout,
+    #[command(flatten)]
+    lights: scenes::LightArgs,
 }
 
 /// Prints one line per scene.
@@ -42,7 +44,7 @@ pub fn run(args: &BvhArgs) -> BenchResult<()> {
         "wrong"
     );
     for name in &args.scenes {
-        let mut scene = scenes::load(name, true, None)?;
+        let mut scene = scenes::load(name, args.lights)?;
         let mut rays = RayScene::build_with(&scene, args.bvh);
         let built = rays.stats;
         let reference = SceneBvh::build(&scene);

@@ -86,14 +86,8 @@ struct SweepArgs {
     /// Output folder (created if missing).
     #[arg(long, default_value = "bench-out")]
     out: PathBuf,
-    /// Turn every point light into a spot around the scene (cone at most 80°), for every
-    /// technique alike: silhouette maps need one 2D map per light and skip point lights.
-    #[arg(long)]
-    spot_lights: bool,
-    /// Bound every point and spot light to this range (world units): the light adds exactly
-    /// nothing beyond it, so planning can cull by it (scissor, depth bounds, casters).
-    #[arg(long, value_parser = crate::parse_light_range)]
-    light_range: Option<f32>,
+    #[command(flatten)]
+    lights: scenes::LightArgs,
     /// Also measure every configuration without frame planning (`RendererDesc::cull` off):
     /// the summary's `--no-cull` column, and a check that the image is the same.
     #[arg(long)]
@@ -157,7 +151,7 @@ fn run_sweep(args: &SweepArgs) -> BenchResult<()> {
     let mut records: Vec<Record> = Vec::new();
     let mut skipped = Vec::new();
     for name in &plan.scenes {
-        let scene = scenes::load(name, args.spot_lights, args.light_range)?;
+        let scene = scenes::load(name, args.lights)?;
         let bvh = SceneBvh::build(&scene);
         log::info!("{name}: {} triangles, reference BVH built in {:.1} ms", scene.triangle_count(), bvh.build_ms());
         for config in plan.configs(name) {

@@ -62,7 +62,10 @@ fn fingerprint(
     args: &FingerprintArgs,
 ) -> BenchResult<Fingerprint> {
     let (width, height) = args.size;
-    let mut scene = scenes::load(name, variant == "spots", (variant == "culled").then_some(6.0))?;
+    let mut scene = scenes::load(
+        name,
+        scenes::LightArgs { spot_lights: variant == "spots", light_range: (variant == "culled").then_some(6.0) },
+    )?;
     for light in &mut scene.lights {
         light.technique = technique;
     }

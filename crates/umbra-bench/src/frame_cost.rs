@@ -26,6 +26,8 @@ pub struct FrameCostArgs {
     /// Where shadow volumes (sv, hybrid) are built: cpu or gpu (`ShadowVolumeSettings::build`).
     #[arg(long, default_value = "cpu", value_parser = parse_build)]
     volume_build: VolumeBuild,
+    #[command(flatten)]
+    lights: scenes::LightArgs,
 }
 
 /// `cpu` or `gpu`.
@@ -37,8 +39,9 @@ fn parse_build(s: &str) -> Result<VolumeBuild, String> {
     }
 }
 
-/// Renders every scene × technique `frames` times with one renderer (point lights turned into
-/// spots, as for every technique alike) and prints one line each.
+/// Renders every scene × technique `frames` times with one renderer (the lights changed as
+/// `--spot-lights` and `--light-range` say, for every technique alike) and prints one line
+/// each.
 pub fn run(args: &FrameCostArgs) -> BenchResult<()> {
     let ctx = umbra_vk::Context::new()?;
     println!("device: {}; volumes built on the {:?}", ctx.capabilities().driver(), args.volume_build);
@@ -68,7 +71,7 @@ pub fn run(args: &FrameCostArgs) -> BenchResult<()> {
                 println!("{name} {short}: not a technique");
                 continue;
             };
-            let mut scene = scenes::load(name, true, None)?;
+            let mut scene = scenes::load(name, args.lights)?;
             for light in &mut scene.lights {
                 light.technique = technique;
             }

@@ -103,7 +103,8 @@ across the image may go either way. The same rule on both drivers; SwiftShader's
 watertight, so there the volumes are clipped to the view on the host (`HostClip`).\n\
 - **SM** (shadow map, 2×2 PCF) and **silmap** (silhouette map): no wrong pixel beyond 2 shadow-map texels of a change \
 of the true shadow or of the map's depth field (measured on the receiver, in the light's own map), or of a caster in \
-contact with the receiver. Silhouette maps have no cube form: point lights become spots for them.\n\
+contact with the receiver. Point lights take cube maps: the shadow map's six layers, the silhouette map's six \
+faces in one atlas, each face with a two-texel border so that a lookup near a seam stays in one face.\n\
 - **hybrid**: the SV rule where its map flagged silhouette pixels, the SM rule elsewhere. lavapipe has no \
 `depthBounds`, so there the hybrid runs its stencil mask; SwiftShader runs the real depth-bounds mask.\n\
 - **RT** (ray traced): the rule of an exact technique, no wrong pixel off the seam of a true shadow edge: it casts \

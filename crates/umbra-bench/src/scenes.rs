@@ -18,11 +18,23 @@ pub fn scenes_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes")
 }
 
+/// What the bench does to a scene's lights before rendering it (`--spot-lights`,
+/// `--light-range`); by default nothing: every technique takes the scene's own lights.
+#[derive(clap::Args, Clone, Copy, Debug, Default)]
+pub struct LightArgs {
+    /// Turn every point light into a spot around the scene (cone at most 80°), for every
+    /// technique alike (one 2D map per light instead of a cube).
+    #[arg(long)]
+    pub spot_lights: bool,
+    /// Bound every point and spot light to this range (world units): the light adds exactly
+    /// nothing beyond it, so planning can cull by it (scissor, depth bounds, casters).
+    #[arg(long, value_parser = crate::parse_light_range)]
+    pub light_range: Option<f32>,
+}
+
 /// Loads `name` (a bare file name that does not exist here is looked up in [`assets_dir`],
-/// then in [`scenes_dir`]);
-/// with `spot_lights` every point light becomes a spot around the scene (cone at most 80°),
-/// and with `light_range` every point and spot light is bounded to that range.
-pub fn load(name: &str, spot_lights: bool, light_range: Option<f32>) -> BenchResult<umbra_scene::Scene> {
+/// then in [`scenes_dir`]) and changes its lights as `lights` says.
+pub fn load(name: &str, lights: LightArgs) -> BenchResult<umbra_scene::Scene> {
     let mut spec = name.to_owned();
     if !Path::new(name).exists() && !umbra_scene::procedural::NAMES.contains(&name) {
         let candidates = [assets_dir().join(name), scenes_dir().join(name)];
@@ -32,10 +44,10 @@ pub fn load(name: &str, spot_lights: bool, light_range: Option<f32>) -> BenchRes
     }
     let scene_error = |source| BenchError::Scene { name: name.to_owned(), source };
     let mut scene = umbra_scene::load(&spec).map_err(scene_error)?;
-    if spot_lights {
+    if lights.spot_lights {
         scene.point_lights_to_spots(80.0);
     }
-    if let Some(range) = light_range {
+    if let Some(range) = lights.light_range {
         for light in &mut scene.lights {
             light.range = Some(range);
         }
@@ -53,7 +65,7 @@ mod tests {
     #[test]
     fn the_bunny_scenes_instance_one_mesh() {
         for (name, bunnies) in [("one-bunny.toml", 1), ("four-bunnies.toml", 4), ("sixteen-bunnies.toml", 16)] {
-            let scene = load(name, false, None).expect(name);
+            let scene = load(name, LightArgs::default()).expect(name);
             assert_eq!(scene.meshes.len(), 2, "{name}: the floor and one bunny mesh");
             assert_eq!(scene.objects.len(), 1 + bunnies, "{name}");
             assert_eq!(scene.triangle_count(), 12 + 69_451 * bunnies, "{name}");

@@ -87,17 +87,6 @@ const SPECK: Expect = Expect::Misses {
     why: "the caster falls between depth samples: the map never stores it, so its shadow is lost (Chan-Durand sec. 5); the hybrid's conservative bounds see it",
 };
 
-/// Case 7, silhouette maps: the point light becomes a spot whose cone must span a floor 8e5
-/// wide from 5e5 above (80°): at the rim of that 160° frustum a texel is ~30 times wider than
-/// at its axis, and the grazing floor there self-shadows in the silhouette map's corner
-/// comparisons. Measured 15.8 % on lavapipe; the point light itself (a cube map) is exact
-/// for shadow maps.
-const WIDE_SPOT: Expect = Expect::Documented {
-    min: 0.0,
-    max: 0.2,
-    why: "the point light becomes an 80° spot to get a 2D silhouette map; at the rim of that 160° frustum texels are ~30x wider and the grazing floor self-shadows",
-};
-
 /// Case 16: twigs thinner than a pixel (a few mm at 8 m).
 const TWIGS: Expect = Expect::Documented {
     min: 0.0,
@@ -124,7 +113,7 @@ const GRAZING_BALL: Expect = Expect::Documented {
 const GRAZING_FACE: Expect = Expect::Documented {
     min: 0.0,
     max: 0.0001,
-    why: "a cube face lit at 85° by one directional light: the silhouette points of its far edge land within a texel of the face, and one column of pixels takes the wrong corner (measured 8 of 233 578)",
+    why: "a cube face lit at 85° by one directional light: the silhouette points of its far edge land within a texel of the face, and two columns of pixels take the wrong corner (measured 21 of 235 989 on lavapipe, 19 of 236 031 on SwiftShader, all of that light)",
 };
 
 /// Every case, in number order.
@@ -135,7 +124,7 @@ pub const CASES: &[Case] = &[
     Case { file: "04-grazing-directional-light", outcome: STRICT },
     Case { file: "05-light-touching-occluder", outcome: STRICT },
     Case { file: "06-light-in-caster-plane", outcome: STRICT },
-    Case { file: "07-huge-coordinates", outcome: judged(S, WIDE_SPOT, S, S) },
+    Case { file: "07-huge-coordinates", outcome: STRICT },
     Case { file: "08-300-overlapping-volumes", outcome: STRICT },
     Case { file: "09-zero-area-and-needles", outcome: STRICT },
     Case { file: "10-duplicated-vertices-t-junctions", outcome: STRICT },
@@ -158,6 +147,7 @@ pub const CASES: &[Case] = &[
     Case { file: "27-384-overlapping-volumes", outcome: STRICT },
     Case { file: "28-thin-parts-on-a-large-floor", outcome: STRICT },
     Case { file: "29-near-plane-slices-an-occluder-under-a-low-sun", outcome: STRICT },
+    Case { file: "30-point-light-in-a-room-of-occluders", outcome: STRICT },
 ];
 
 /// The case whose file stem is `file`.

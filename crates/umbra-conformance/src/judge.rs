@@ -275,16 +275,21 @@ fn missing(what: &str) -> ConformanceError {
 fn map_explains(light: &Light, bvh: &SceneBvh, map: Option<&ShadowMapReport>, s: &Surface, truth: bool) -> bool {
     let Some(map) = map else { return false };
     let p = s.position.extend(1.0);
-    let Some((view_proj, ndc)) = map.view_proj.iter().find_map(|vp| {
+    // The view the lookup uses: of those holding the point, the one it lies furthest inside
+    // (the face its direction's major axis selects, where a cube's faces overlap at seams).
+    let views = map.view_proj.iter().filter_map(|vp| {
         let c = *vp * p;
         let ndc = c.truncate() / c.w;
         let inside = c.w > 0.0 && ndc.x.abs() <= 1.0 && ndc.y.abs() <= 1.0 && (0.0..=1.0).contains(&ndc.z);
         inside.then_some((*vp, ndc))
-    }) else {
+    });
+    let Some((view_proj, ndc)) =
+        views.min_by(|a, b| a.1.x.abs().max(a.1.y.abs()).total_cmp(&b.1.x.abs().max(b.1.y.abs())))
+    else {
         return false;
     };
     let inverse = view_proj.inverse();
-    let step = TEXEL_BAND * 2.0 / map.resolution as f32;
+    let step = TEXEL_BAND * 2.0 / map.view_texels as f32;
     let at = |dx: f32, dy: f32| {
         let moved = inverse * Vec4::new(ndc.x + dx * step, ndc.y + dy * step, ndc.z, 1.0);
         moved.truncate() / moved.w
@@ -298,7 +303,7 @@ fn map_explains(light: &Light, bvh: &SceneBvh, map: Option<&ShadowMapReport>, s:
         }
     }
     let tolerance = at(1.0, 0.0).distance(at(0.0, 0.0));
-    band_samples(ndc.truncate(), map.resolution).any(|(dx, dy)| {
+    band_samples(ndc.truncate(), map.view_texels).any(|(dx, dy)| {
         let q = at(dx, dy);
         // What the map stores there: the first surface from the light through q. Off p's
         // plane (a crease, another object, a silhouette) the map's depth field is not p's.

@@ -101,8 +101,8 @@ fn plaza_scene() -> Scene {
         group.append(&sphere(0.5, 24, 12).transformed(Mat4::from_translation(centre + Vec3::new(0.0, 2.6, 0.0))));
         add(&mut s, group, &format!("group {k}"), Mat4::IDENTITY, Vec3::new(0.8, 0.6, 0.35));
         let position = centre + Vec3::new(1.0, 4.0, 0.5);
-        // Odd groups get spots (silhouette maps need one), even ones point lights.
-        let mut l = if k % 2 == 1 || technique == Technique::SilhouetteMap {
+        // Odd groups get spots, even ones point lights.
+        let mut l = if k % 2 == 1 {
             Light::spot(position, centre - position, 40.0, 55.0, 16.0)
         } else {
             Light::point(position, 16.0)

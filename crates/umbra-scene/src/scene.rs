@@ -134,8 +134,9 @@ impl Scene {
     }
 
     /// Turns every point light into a spot aimed at the scene's centre, its cone just around
-    /// the scene's bounds (at most `max_cone_deg` half-angle; 1° of soft edge), for techniques
-    /// that need one 2D map per light. Returns the indices of the lights it changed.
+    /// the scene's bounds (at most `max_cone_deg` half-angle; 1° of soft edge): one 2D map per
+    /// light instead of a cube (`umbra-bench --spot-lights`). Returns the indices of the
+    /// lights it changed.
     pub fn point_lights_to_spots(&mut self, max_cone_deg: f32) -> Vec<usize> {
         let bounds = self.bounds();
         let mut changed = Vec::new();

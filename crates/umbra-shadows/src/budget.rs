@@ -30,6 +30,11 @@ pub struct ShadowStorage {
 impl std::fmt::Display for ShadowStorage {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let faces = if self.cube { "6 x " } else { "" };
+        // A silhouette map's cube is a face atlas: its faces carry borders.
+        let (side, borders) = match (self.cube, self.silhouette) {
+            (true, true) => (crate::shadow_map::atlas::face_side(self.resolution), " (faces with their borders)"),
+            _ => (self.resolution, ""),
+        };
         let silhouette = if self.silhouette { " + silhouette map" } else { "" };
         let bounds = match (self.bounds, self.depth) {
             (false, _) => "",
@@ -37,13 +42,14 @@ impl std::fmt::Display for ShadowStorage {
             (true, false) => " depth bounds",
         };
         let bytes = umbra_vk::human_bytes(self.bytes);
-        write!(f, "light {}: {faces}{}²{silhouette}{bounds} = {bytes}", self.light, self.resolution)
+        write!(f, "light {}: {faces}{side}²{borders}{silhouette}{bounds} = {bytes}", self.light)
     }
 }
 
-/// Texel bytes of a `resolution`² image with `layers` layers of `texel` bytes each.
-pub(crate) fn image_bytes(resolution: u32, layers: u32, texel: u64) -> u64 {
-    u64::from(resolution).saturating_mul(u64::from(resolution)).saturating_mul(u64::from(layers)).saturating_mul(texel)
+/// Bytes of an image of `desc` whose texels take `texel` bytes (every layer).
+pub(crate) fn desc_bytes(desc: &umbra_vk::ImageDesc, texel: u64) -> u64 {
+    let texels = u64::from(desc.width).saturating_mul(u64::from(desc.height));
+    texels.saturating_mul(u64::from(desc.layers)).saturating_mul(texel)
 }
 
 /// A typed [`RenderError::ShadowBudget`] when `needs` sum to more than `budget` bytes.
@@ -73,6 +79,7 @@ pub(crate) fn release_unused<T: std::any::Any + Send>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use umbra_vk::vk;
 
     fn cube(light: usize) -> ShadowStorage {
         ShadowStorage {
@@ -82,7 +89,7 @@ mod tests {
             depth: true,
             silhouette: false,
             bounds: false,
-            bytes: image_bytes(2048, 6, 4),
+            bytes: desc_bytes(&umbra_vk::ImageDesc::new_cube(vk::Format::D32_SFLOAT, 2048), 4),
         }
     }
 
@@ -105,7 +112,7 @@ mod tests {
 
     #[test]
     fn sizes_saturate_instead_of_wrapping() {
-        assert_eq!(image_bytes(u32::MAX, 6, 16), u64::MAX);
+        assert_eq!(desc_bytes(&umbra_vk::ImageDesc::new_cube(vk::Format::D32_SFLOAT, u32::MAX), 16), u64::MAX);
         let huge = ShadowStorage { bytes: u64::MAX, ..cube(0) };
         assert!(check(&[huge, huge], u64::MAX).is_ok(), "u64::MAX is unlimited");
     }

@@ -66,18 +66,26 @@ impl PixelClass {
 pub(crate) const BACKGROUND: [f32; 4] = [0.5, 0.5, 0.5, 1.0];
 
 /// A light's silhouette map read back: texel-local points, row 0 first.
+///
+/// A spot or directional light's map is square. A point light's is a face atlas: its six
+/// cube faces in three columns and two rows (+X, -X, +Y on top; -Y, +Z, -Z below), each face
+/// `width / 3` texels per side: the 90° interior and a border of two texels beyond it on every
+/// side (rendered by the face's widened frustum), which keeps every lookup's texels inside one
+/// face.
 #[derive(Clone, Debug)]
 pub struct SilhouetteMapImage {
-    /// Texels per side.
-    pub resolution: u32,
-    /// `resolution²` points, `(0.5, 0.5)` where no silhouette passes.
+    /// Texels per row.
+    pub width: u32,
+    /// Rows.
+    pub height: u32,
+    /// `width × height` points, `(0.5, 0.5)` where no silhouette passes.
     pub points: Vec<[f32; 2]>,
 }
 
 impl SilhouetteMapImage {
     /// The point of texel `(x, y)`.
     pub fn point(&self, x: u32, y: u32) -> [f32; 2] {
-        self.points[(y * self.resolution + x) as usize]
+        self.points[(y * self.width + x) as usize]
     }
 
     /// Texels holding a point other than the default.
@@ -216,25 +224,25 @@ pub(crate) struct DiagnosticReadback {
     pub classification: Buffer,
     pub points: Buffer,
     pub silhouette_map: Buffer,
-    resolution: u32,
+    extent: (u32, u32),
 }
 
 impl DiagnosticReadback {
     pub fn new(ctx: &Context, width: u32, height: u32, silhouette_map: &Image) -> RenderResult<Self> {
         let frame = BufferDesc::readback(4 * u64::from(width) * u64::from(height));
-        let resolution = silhouette_map.desc.width;
-        let points = BufferDesc::readback(8 * u64::from(resolution) * u64::from(resolution));
+        let extent = (silhouette_map.desc.width, silhouette_map.desc.height);
+        let points = BufferDesc::readback(8 * u64::from(extent.0) * u64::from(extent.1));
         Ok(Self {
             classification: Buffer::new(ctx, "diagnostics readback: classification", frame)?,
             points: Buffer::new(ctx, "diagnostics readback: silhouette points", frame)?,
             silhouette_map: Buffer::new(ctx, "diagnostics readback: silhouette map", points)?,
-            resolution,
+            extent,
         })
     }
 
     /// Whether it is the readback of a silhouette map as large as `silhouette_map`.
     pub fn fits(&self, silhouette_map: &Image) -> bool {
-        self.resolution == silhouette_map.desc.width
+        self.extent == (silhouette_map.desc.width, silhouette_map.desc.height)
     }
 
     pub fn read(&self, light: usize) -> RenderResult<LightDiagnostics> {
@@ -243,7 +251,7 @@ impl DiagnosticReadback {
             light,
             classification: self.classification.read()?,
             points: Some(self.points.read()?),
-            silhouette_map: Some(SilhouetteMapImage { resolution: self.resolution, points }),
+            silhouette_map: Some(SilhouetteMapImage { width: self.extent.0, height: self.extent.1, points }),
             stencil: None,
         })
     }

@@ -13,7 +13,8 @@ pub enum RenderError {
     /// The scene is invalid.
     #[error(transparent)]
     Scene(#[from] umbra_scene::SceneError),
-    /// A light's kind cannot use the technique it asks for.
+    /// A light cannot use the technique it asks for on this device (ray-traced shadows without
+    /// ray queries).
     #[error("light {light} asks for {technique:?}: {why}")]
     UnsupportedLight {
         /// Index of the light.

@@ -62,16 +62,29 @@ struct GpuLight {
     shadow_params: [f32; 4],
 }
 
+/// [`GpuShadow::kind`] of a map of `kind`, with or without a silhouette map: the shaders'
+/// `SHADOW_2D` (1), `SHADOW_CUBE` (2), `SHADOW_SILHOUETTE` (3) and `SHADOW_SILHOUETTE_CUBE` (4).
+pub(crate) fn shadow_kind(kind: crate::shadow_map::frustum::MapKind, silhouette: bool) -> u32 {
+    use crate::shadow_map::frustum::MapKind;
+    match (kind, silhouette) {
+        (MapKind::Single, false) => 1,
+        (MapKind::Cube, _) => 2,
+        (MapKind::Single, true) => 3,
+        (MapKind::FaceAtlas, _) => 4,
+    }
+}
+
 /// What the lighting pass needs to know of a light's shadow map this frame.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct GpuShadow {
-    /// `SHADOW_NONE` (0), `SHADOW_2D` (1) or `SHADOW_CUBE` (2).
+    /// `SHADOW_NONE` (0), `SHADOW_2D` (1), `SHADOW_CUBE` (2), `SHADOW_SILHOUETTE` (3) or
+    /// `SHADOW_SILHOUETTE_CUBE` (4) (`shaders-glsl/common/scene.glsl`).
     pub kind: u32,
     /// Index of the light's first view in the shadow-view buffer.
     pub first_view: u32,
     /// World-space normal offset of the lookup point.
     pub normal_offset: f32,
-    /// 1 / resolution.
+    /// 1 / the texels per side of one view (a face atlas's faces with their borders).
     pub texel: f32,
     /// Near and far view depths of perspective maps (spot, cube faces).
     pub near: f32,

@@ -28,7 +28,7 @@ use crate::hybrid::MaskKind;
 use crate::reach::{self, Clip, Planes, Unreached};
 use crate::technique::{needs, Casters};
 use crate::view::View;
-use crate::{RenderError, RenderResult};
+use crate::RenderResult;
 use serde::Serialize;
 use umbra_scene::{Aabb, LightKind, Scene, Technique};
 
@@ -170,7 +170,7 @@ pub struct LightPlan {
 pub struct ShadowMapReport {
     /// Texels per side (per face for cube maps).
     pub resolution: u32,
-    /// Whether it is a cube map (six faces).
+    /// Whether it has six faces: a cube map, or a silhouette-map light's face atlas.
     pub cube: bool,
     /// Near distance of its frustum.
     pub near: f32,
@@ -189,12 +189,17 @@ pub struct ShadowMapReport {
     /// order; Vulkan clip space, depth 0..1): where a world point falls in the map, and how
     /// large a texel is there.
     pub view_proj: Vec<glam::Mat4>,
+    /// Texels per side of each view's clip square: `resolution`, or more for a silhouette
+    /// map's cube, whose faces are widened by a border beyond their 90° (a point on a seam
+    /// then lies in two views; the lookup uses the one where it lies furthest inside).
+    pub view_texels: u32,
 }
 
 /// A light's silhouette map as rendered in one frame (Sen et al. Table 1's statistics).
 #[derive(Clone, Debug, Serialize)]
 pub struct SilhouetteMapReport {
-    /// Texels per side (the depth map's resolution).
+    /// Texels per side (the depth map's resolution; per face, borders left out, where
+    /// [`ShadowMapReport::cube`] says the light has six faces).
     pub resolution: u32,
     /// Silhouette edges drawn into it.
     pub silhouette_edges: usize,
@@ -351,12 +356,6 @@ pub struct CasterMode {
     pub triangles: usize,
 }
 
-/// Why silhouette maps refuse lights that need a cube map.
-pub(crate) const SILHOUETTE_CUBE_UNSUPPORTED: &str =
-    "silhouette maps need one 2D depth map, and point lights (and spots \
-     wider than 80°) use cube maps, whose silhouette texels would need neighbours across faces; use a spot or \
-     directional light, or shadow_map / shadow_volume for this light";
-
 /// What the planner looks at besides the scene.
 pub(crate) struct PlanInput<'a> {
     /// Each object's world bounds (`Scene::object_bounds`).
@@ -444,9 +443,6 @@ fn plan_light(
         let (technique, why) = crate::auto::choose(scene, i, input, &view_proj, &input.auto);
         plan.technique = technique;
         plan.auto_choice = Some(why);
-    }
-    if let Some(why) = (needs(plan.technique).unsupported)(l.kind()) {
-        return Err(RenderError::UnsupportedLight { light: i, technique: plan.technique, why: why.into() });
     }
     if !input.cull {
         plan.map_casters = casters.clone();
@@ -566,13 +562,12 @@ mod tests {
     }
 
     #[test]
-    fn silhouette_maps_refuse_point_lights_with_a_reason() {
+    fn silhouette_maps_plan_point_and_spot_lights() {
         let mut s = umbra_scene::procedural::build("ball").unwrap();
         s.lights = vec![Light::point(Vec3::new(0.0, 4.0, 0.0), 10.0)];
         s.lights[0].technique = Technique::SilhouetteMap;
-        let err = plan_frame(&s, &input(&s)).unwrap_err();
-        assert!(matches!(err, RenderError::UnsupportedLight { light: 0, technique: Technique::SilhouetteMap, .. }));
-        assert!(err.to_string().contains("cube map"), "{err}");
+        let plan = plan_frame(&s, &input(&s)).unwrap();
+        assert!(plan[0].recorded && plan[0].technique == Technique::SilhouetteMap);
         s.lights[0] = Light::spot(Vec3::new(0.0, 4.0, 0.0), -Vec3::Y, 20.0, 30.0, 10.0);
         s.lights[0].technique = Technique::SilhouetteMap;
         assert!(plan_frame(&s, &input(&s)).is_ok());

@@ -4,13 +4,13 @@
 //! technique added to the enum does not compile until it has its row (see
 //! `docs/architecture.md`, "Adding a technique").
 //!
-//! Per light every technique goes through the same steps: check the light (`unsupported`),
-//! pick casters (`casters`; `crate::plan`), prepare (its map, silhouette edges, volumes;
-//! `renderer/prepare.rs`), declare its passes (`lighting`; `renderer/declare.rs` and the
-//! technique's own `frame.rs`), report (`renderer/results.rs`).
+//! Per light every technique goes through the same steps: pick casters (`casters`;
+//! `crate::plan`), prepare (its map, silhouette edges, volumes; `renderer/prepare.rs`), declare
+//! its passes (`lighting`; `renderer/declare.rs` and the technique's own `frame.rs`), report
+//! (`renderer/results.rs`).
 
 use crate::shadow_volume::VolumeMode;
-use umbra_scene::{LightKind, Technique};
+use umbra_scene::Technique;
 
 /// Whose casters decide a technique's shadows (and whose culling it reports).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -56,13 +56,11 @@ pub(crate) enum Lighting {
 pub(crate) struct Needs {
     /// Whether the light casts shadows at all.
     pub shadows: bool,
-    /// Why it cannot shadow a light of `kind`, when it cannot.
-    pub unsupported: fn(LightKind) -> Option<&'static str>,
     /// Whose casters decide its shadows.
     pub casters: Casters,
     /// Its shadow map's size, when it renders one.
     pub map: Option<MapSize>,
-    /// Whether its map is also a silhouette map's depth map (2D maps only).
+    /// Whether its map is also a silhouette map's depth map (a cube becomes a face atlas).
     pub silhouette: bool,
     /// Its shadow volumes, when it builds them.
     pub volumes: Option<Volumes>,
@@ -83,10 +81,8 @@ pub(crate) struct Needs {
 /// The row of `technique`. `auto` is resolved by the planner before any other step reads it;
 /// its row only says what holds before: it shadows, and may pick the hybrid.
 pub(crate) fn needs(technique: Technique) -> Needs {
-    let none = |_| None;
     let base = Needs {
         shadows: true,
-        unsupported: none,
         casters: Casters::Map,
         map: None,
         silhouette: false,
@@ -100,12 +96,7 @@ pub(crate) fn needs(technique: Technique) -> Needs {
     match technique {
         Technique::Unshadowed => Needs { shadows: false, casters: Casters::None, ..base },
         Technique::ShadowMap => Needs { map: Some(MapSize::Settings), classified: true, ..base },
-        Technique::SilhouetteMap => Needs {
-            unsupported: |kind| (kind == LightKind::Point).then_some(crate::plan::SILHOUETTE_CUBE_UNSUPPORTED),
-            map: Some(MapSize::Settings),
-            silhouette: true,
-            ..base
-        },
+        Technique::SilhouetteMap => Needs { map: Some(MapSize::Settings), silhouette: true, ..base },
         Technique::ShadowVolume => Needs {
             casters: Casters::Volumes,
             volumes: Some(Volumes::Settings),

@@ -382,14 +382,19 @@ impl<'a> Recorder<'a> {
     /// Sets a y-up viewport (negative height, OpenGL's orientation and winding) and scissor
     /// covering `extent`. `begin_rendering` already does this for the full target.
     pub fn set_viewport(&mut self, extent: vk::Extent2D) {
-        let (w, h) = (extent.width as f32, extent.height as f32);
-        let viewport = vk::Viewport { x: 0.0, y: h, width: w, height: -h, min_depth: 0.0, max_depth: 1.0 };
-        let scissor = vk::Rect2D { offset: vk::Offset2D::default(), extent };
-        // SAFETY: every umbra pipeline has dynamic viewport and scissor.
-        unsafe {
-            self.device().cmd_set_viewport(self.cmd, 0, &[viewport]);
-            self.device().cmd_set_scissor(self.cmd, 0, &[scissor]);
-        }
+        self.set_viewport_rect([0, 0, extent.width, extent.height]);
+    }
+
+    /// Sets a y-up viewport and a scissor covering the rectangle (x, y, width, height; y down,
+    /// in pixels) of the target: drawing into one tile of an atlas.
+    pub fn set_viewport_rect(&mut self, rect: [u32; 4]) {
+        let [x, y, width, height] = rect;
+        let (w, h) = (width as f32, height as f32);
+        let viewport =
+            vk::Viewport { x: x as f32, y: y as f32 + h, width: w, height: -h, min_depth: 0.0, max_depth: 1.0 };
+        // SAFETY: every umbra pipeline has dynamic viewport.
+        unsafe { self.device().cmd_set_viewport(self.cmd, 0, &[viewport]) };
+        self.set_scissor(rect);
     }
 
     /// Limits drawing to the rectangle (x, y, width, height; y down, in pixels) until the next

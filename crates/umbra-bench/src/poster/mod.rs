@@ -20,9 +20,8 @@ use umbra_vk::Context;
 /// Flags of `umbra-bench poster` (and of `cargo run --example demo`).
 #[derive(clap::Args, Clone, Debug)]
 pub struct PosterArgs {
-    /// The scene: a procedural name, a .toml scene file or a .glb/.gltf path. Point lights
-    /// become spots around the scene, so that silhouette maps serve every light too. The
-    /// default, Chan–Durand's dragon cage, shows every technique's kind of error at once.
+    /// The scene: a procedural name, a .toml scene file or a .glb/.gltf path. The default,
+    /// Chan–Durand's dragon cage, shows every technique's kind of error at once.
     #[arg(long, default_value = "cage")]
     pub scene: String,
     /// Image size per technique, WIDTHxHEIGHT.
@@ -47,6 +46,9 @@ pub struct PosterArgs {
     /// Output folder: `poster.png`, `poster.json`, `images/*-error.png`.
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
+    /// What to do to the scene's lights first (`--spot-lights`, `--light-range`).
+    #[command(flatten)]
+    pub lights: scenes::LightArgs,
 }
 
 /// What `poster.json` holds.
@@ -93,7 +95,7 @@ pub fn bench_command(args: &PosterArgs, depth_bounds: bool) -> String {
     let mask = args.mask.unwrap_or(MaskKind::best_for(depth_bounds));
     format!(
         "umbra-bench sweep --scenes {} --techniques {} --sm-sizes {} --filters {} --masks {} --size {}x{} \
-         --frames {} --warmup {} --spot-lights",
+         --frames {} --warmup {}{}{}",
         args.scene,
         sweep::TECHNIQUES.map(Technique::short).join(","),
         args.sm_size,
@@ -102,7 +104,9 @@ pub fn bench_command(args: &PosterArgs, depth_bounds: bool) -> String {
         args.size.0,
         args.size.1,
         args.frames,
-        args.warmup
+        args.warmup,
+        if args.lights.spot_lights { " --spot-lights" } else { "" },
+        args.lights.light_range.map_or_else(String::new, |r| format!(" --light-range {r}"))
     )
 }
 
@@ -121,7 +125,7 @@ pub fn run(ctx: &Context, args: &PosterArgs) -> BenchResult<Poster> {
     plots::load_font()?;
     std::fs::create_dir_all(&args.out).map_err(|e| BenchError::output(&args.out, e))?;
     let caps = ctx.capabilities().clone();
-    let scene = scenes::load(&args.scene, true, None)?;
+    let scene = scenes::load(&args.scene, args.lights)?;
     let bvh = SceneBvh::build(&scene);
     let mut measured: Vec<Measured> = Vec::new();
     let mut skipped = Vec::new();

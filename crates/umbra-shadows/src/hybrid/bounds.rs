@@ -134,7 +134,9 @@ impl BoundsPass {
         if self.targets.len() <= light {
             self.targets.resize_with(light + 1, || None);
         }
-        let faces = if kind == MapKind::Cube { 6 } else { 1 };
+        // The hybrid's maps are 2D or cube maps, never face atlases (only silhouette maps).
+        debug_assert!(kind != MapKind::FaceAtlas, "the hybrid's bounds take no face atlas");
+        let faces = kind.views();
         let desc = bounds_desc(resolution, faces);
         let fits = self.targets[light]
             .as_ref()

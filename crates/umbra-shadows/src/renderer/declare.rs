@@ -110,7 +110,18 @@ impl Renderer {
             let (Some(e), Some(depth_set)) = (light.edges, &f.bindings[l].depth_set) else { continue };
             let (target, image) = (self.silhouette_map.image(Some(l)), self.shadow_map.image(l)?);
             stage.pass(PassId::SilhouetteMap(l), &[Use::Image(target, Color), Use::Image(image, Read)], move |cx| {
-                self.silhouette_map.record_points(cx.rec, &self.layout, f.gpu, depth_set, l, f.edges, e, cx.log)
+                let map_kind = (map.views.kind, map.resolution);
+                self.silhouette_map.record_points(
+                    cx.rec,
+                    &self.layout,
+                    f.gpu,
+                    depth_set,
+                    l,
+                    f.edges,
+                    e,
+                    map_kind,
+                    cx.log,
+                )
             });
         }
         Ok(())

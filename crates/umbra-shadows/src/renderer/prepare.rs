@@ -5,12 +5,11 @@
 use super::lights::{FrameView, LightFrame, MapFrame};
 use super::Renderer;
 use crate::budget::{self, ShadowStorage};
-use crate::gpu_scene::{GpuScene, GpuShadow};
+use crate::gpu_scene::{self, GpuScene, GpuShadow};
 use crate::hybrid::cull::{self, CullingPlan};
 use crate::hybrid::MaskKind;
-use crate::plan::SILHOUETTE_CUBE_UNSUPPORTED;
 use crate::plan::{plan_frame, tally, CullReason, PlanInput, RayTracedReport, ShadowMapReport, SilhouetteMapReport};
-use crate::shadow_map::frustum::{self, LightViews, MapKind};
+use crate::shadow_map::frustum::{self, LightViews};
 use crate::shadow_map::DepthBias;
 use crate::shadow_volume::build::{self as volumes};
 use crate::shadow_volume::clip;
@@ -88,30 +87,29 @@ impl Renderer {
             if map.depth {
                 self.shadow_map.prepare(&self.ctx, l, resolution, views.kind, &mut self.slot.retired)?;
             }
+            // Texels per side of one view: a face atlas's faces have their borders too.
+            let side = views.kind.view_side(resolution);
             map.shadow = GpuShadow {
-                kind: match (views.kind, map.silhouette) {
-                    (MapKind::Cube, _) => 2,
-                    (MapKind::Single, false) => 1,
-                    (MapKind::Single, true) => 3,
-                },
+                kind: gpu_scene::shadow_kind(views.kind, map.silhouette),
                 first_view: shadow_views.len() as u32,
                 normal_offset: settings.normal_offset,
-                texel: 1.0 / resolution as f32,
+                texel: 1.0 / side as f32,
                 near: views.near,
                 far: views.far,
             };
             light.plan.shadow_map = Some(ShadowMapReport {
                 resolution,
-                cube: views.kind == MapKind::Cube,
+                cube: views.kind.is_cube(),
                 near: views.near,
                 far: views.far,
                 casters: views.casters.len(),
                 texel_size: (source.position.w == 0.0).then(|| frustum::texel_size(views.views[0], resolution)),
-                receiver_texel_size: self.grid_samples.receiver_texel_size(l, views, resolution, seen),
+                receiver_texel_size: self.grid_samples.receiver_texel_size(l, views, side, seen),
                 view_proj: views.views.clone(),
+                view_texels: side,
             });
             if map.silhouette {
-                self.silhouette_map.prepare(&self.ctx, l, resolution, &mut self.slot.retired)?;
+                self.silhouette_map.prepare(&self.ctx, l, resolution, views.kind, &mut self.slot.retired)?;
                 let e = edges::extract(scene, adjacency, &views.casters, source, &mut edge_instances);
                 light.plan.silhouette_map = Some(SilhouetteMapReport {
                     resolution,
@@ -128,7 +126,7 @@ impl Renderer {
                 (None, false) => None,
             };
             if let (Some(texels), true) = (clamp_texels, self.ctx.capabilities().depth_bias_clamp) {
-                map.bias_clamp = frustum::bias_clamp(views.views[0], resolution, texels);
+                map.bias_clamp = frustum::bias_clamp(views.views[0], side, texels);
             }
             shadow_views.extend_from_slice(&views.views);
             light.map = Some(map);
@@ -156,21 +154,7 @@ impl Renderer {
                 plan.note = Some("no caster can shadow a visible receiver: no shadow map rendered".into());
                 continue;
             };
-            if self.desc.cull {
-                // The fit saw every caster (so the map's frustum is the same either way); only
-                // the planned ones are drawn, each into the views it may touch.
-                views.casters.retain(|c| plan.map_casters.contains(c));
-                let out = views.cull_per_view(&view.boxes);
-                tally(&mut plan.culled, CullReason::OutsideMapView, out);
-            }
             let silhouette = needs(plan.technique).silhouette;
-            if silhouette && views.kind == MapKind::Cube {
-                return Err(RenderError::UnsupportedLight {
-                    light: plan.light,
-                    technique: plan.technique,
-                    why: SILHOUETTE_CUBE_UNSUPPORTED.into(),
-                });
-            }
             let set = match needs(plan.technique).map {
                 Some(MapSize::Hybrid) => self.desc.hybrid.resolution,
                 Some(MapSize::Settings) | None => settings.resolution,
@@ -183,6 +167,17 @@ impl Renderer {
                     self.desc.width,
                 )
             });
+            if silhouette {
+                // A cube's silhouette map: six faces with borders in one atlas (`atlas.rs`).
+                views.widen_to_face_atlas(resolution);
+            }
+            if self.desc.cull {
+                // The fit saw every caster (so the map's frustum is the same either way); only
+                // the planned ones are drawn, each into the views it may touch.
+                views.casters.retain(|c| plan.map_casters.contains(c));
+                let out = views.cull_per_view(&view.boxes);
+                tally(&mut plan.culled, CullReason::OutsideMapView, out);
+            }
             let map_bytes = self.shadow_map.check(&self.ctx, plan.light, resolution, views.kind)?;
             // The hybrid's depth bounds: two layers per face of the map's D32 depth; its depth
             // map only where blocker culling queries it.
@@ -191,14 +186,14 @@ impl Renderer {
             let depth = !bounds || (self.desc.hybrid.cull_blockers && volumes);
             let mut bytes = if depth { map_bytes } else { 0 };
             if silhouette {
-                let map = self.silhouette_map.check(&self.ctx, plan.light, resolution)?;
+                let map = self.silhouette_map.check(&self.ctx, plan.light, resolution, views.kind)?;
                 // With diagnostics the map is also read back, as many bytes again.
                 bytes += if self.diagnostic_targets.is_some() { 2 * map } else { map };
             }
             if bounds {
                 bytes += u64::from(crate::hybrid::bounds::LAYERS_PER_FACE) * map_bytes;
             }
-            let cube = views.kind == MapKind::Cube;
+            let cube = views.kind.is_cube();
             storage.push(ShadowStorage { light: plan.light, resolution, cube, depth, silhouette, bounds, bytes });
             fitted[plan.light] = Some(map_frame(views, resolution, silhouette, depth));
         }
@@ -337,7 +332,7 @@ impl Renderer {
         if self.desc.hybrid.cull_blockers && self.desc.cull {
             for light in lights.iter().filter(|l| l.hybrid()) {
                 let (Some(v), Some(map)) = (&light.volumes, &light.map) else { continue };
-                if map.views.kind != MapKind::Single {
+                if map.views.kind.is_cube() {
                     continue;
                 }
                 for (i, c) in v.casters.iter().enumerate() {

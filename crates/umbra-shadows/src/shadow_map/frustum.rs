@@ -17,13 +17,50 @@ const MAX_SPOT_DEG: f32 = 80.0;
 /// Extra degrees around a spot cone, so its edge never meets the frustum border.
 const SPOT_MARGIN_DEG: f32 = 2.0;
 
-/// Single map or cube map.
+/// Single map, cube map, or face atlas.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum MapKind {
     /// One 2D map (spot, directional).
     Single,
     /// Six faces (point, wide spot).
     Cube,
+    /// Six faces widened by a border, side by side in one 2D map (`atlas.rs`): a cube for the
+    /// silhouette map.
+    FaceAtlas,
+}
+
+impl MapKind {
+    /// Whether the map has six faces (a cube map or a face atlas).
+    pub fn is_cube(self) -> bool {
+        self != Self::Single
+    }
+
+    /// Views (faces) of a map of this kind.
+    pub fn views(self) -> u32 {
+        if self.is_cube() {
+            super::atlas::FACES
+        } else {
+            1
+        }
+    }
+
+    /// Texels per side of one view's clip square, for a map of `resolution`: a face atlas's
+    /// faces carry their borders.
+    pub fn view_side(self, resolution: u32) -> u32 {
+        match self {
+            Self::FaceAtlas => super::atlas::face_side(resolution),
+            Self::Single | Self::Cube => resolution,
+        }
+    }
+
+    /// Width and height of one 2D image (or of each layer of a cube map) of a map of
+    /// `resolution`.
+    pub fn extent(self, resolution: u32) -> (u32, u32) {
+        match self {
+            Self::FaceAtlas => super::atlas::extent(resolution),
+            Self::Single | Self::Cube => (resolution, resolution),
+        }
+    }
 }
 
 /// The views a light's shadow map needs.
@@ -48,6 +85,16 @@ impl LightViews {
     /// Views of `kind` with their depth range; casters and receivers are filled in by `fit`.
     fn new(kind: MapKind, views: Vec<Mat4>, near: f32, far: f32) -> Self {
         Self { kind, views, near, far, casters: Vec::new(), view_casters: None, receivers: Vec::new() }
+    }
+
+    /// Turns cube views into a face atlas of `resolution` interior texels per face
+    /// ([`super::atlas::widen`]); other views are left as they are. Call before
+    /// [`Self::cull_per_view`], so each face keeps the casters its border sees.
+    pub fn widen_to_face_atlas(&mut self, resolution: u32) {
+        if self.kind == MapKind::Cube {
+            super::atlas::widen(&mut self.views, resolution);
+            self.kind = MapKind::FaceAtlas;
+        }
     }
 
     /// The casters drawn into view `layer`.

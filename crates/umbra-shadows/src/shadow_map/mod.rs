@@ -11,6 +11,7 @@
 //!    nearest, hardware 2×2 PCF through a LINEAR comparison sampler, or 3×3 / 5×5 kernels;
 //!    optional normal offset; points outside a 2D map's frustum are explicitly lit.
 
+pub(crate) mod atlas;
 pub(crate) mod fits;
 pub(crate) mod frustum;
 mod kept;

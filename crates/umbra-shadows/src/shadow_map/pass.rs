@@ -1,6 +1,7 @@
 //! The shadow-map pass (Williams' first pass): depth from the light into a D32 map or cube
 //! map, then the descriptor set through which the lighting pass compares against it.
 
+use super::atlas;
 use super::frustum::{LightViews, MapKind};
 use super::settings::{ShadowFilter, ShadowMapSettings};
 use crate::gpu_scene::{self, Bound, DrawPush, GpuScene};
@@ -10,8 +11,8 @@ use crate::{RenderError, RenderResult};
 use umbra_scene::Scene;
 use umbra_vk::{
     vk, Binding, Context, DepthAttachment, DepthState, DescriptorArena, DescriptorSetLayout, GraphicsPipeline,
-    GraphicsPipelineDesc, Image, ImageDesc, ImageState, ImageView, PipelineLayout, Recorder, RenderTargets, Resource,
-    Sampler, SamplerDesc,
+    GraphicsPipelineDesc, Image, ImageDesc, ImageLimits, ImageState, ImageView, Limit, PipelineLayout, Recorder,
+    RenderTargets, Resource, Sampler, SamplerDesc,
 };
 
 /// Shadow maps are single-channel 32-bit float depth.
@@ -26,12 +27,33 @@ fn map_desc(resolution: u32, kind: MapKind) -> ImageDesc {
     match kind {
         MapKind::Single => ImageDesc::new_2d(FORMAT, resolution, resolution).usage(usage),
         MapKind::Cube => ImageDesc::new_cube(FORMAT, resolution).usage(usage),
+        MapKind::FaceAtlas => {
+            let (width, height) = kind.extent(resolution);
+            ImageDesc::new_2d(FORMAT, width, height).usage(usage)
+        }
     }
 }
 
-/// One light's shadow map: the image and, for cube maps, a view per face to render into.
+/// The largest `resolution` whose map of `kind` stays within `limits`, and the limit that sets it.
+fn max_resolution(kind: MapKind, limits: &ImageLimits) -> (u64, Limit) {
+    // Faces across and down one image, and the texels each face adds to the resolution.
+    let (across, down, border) = match kind {
+        MapKind::Single | MapKind::Cube => (1, 1, 0),
+        MapKind::FaceAtlas => (u64::from(atlas::COLUMNS), u64::from(atlas::ROWS), u64::from(2 * atlas::FACE_BORDER)),
+    };
+    let by_width = (limits.width, (limits.width.value / across).saturating_sub(border));
+    let by_height = (limits.height, (limits.height.value / down).saturating_sub(border));
+    let face_texels = limits.bytes.value / (u64::from(kind.views()) * MAP_TEXEL_BYTES);
+    let by_bytes = (limits.bytes, face_texels.isqrt().saturating_sub(border));
+    let (limit, max) = [by_width, by_height, by_bytes].into_iter().min_by_key(|&(_, max)| max).unwrap_or(by_width);
+    (max, limit)
+}
+
+/// One light's shadow map: the image, its resolution (texels per side, or per face interior
+/// of a face atlas) and, for cube maps, a view per face to render into.
 pub(crate) struct ShadowTarget {
     image: Image,
+    resolution: u32,
     faces: Vec<ImageView>,
 }
 
@@ -115,9 +137,7 @@ impl ShadowMapPass {
         let desc = map_desc(resolution.max(1), kind);
         let limits = ctx.image_limits(&desc)?;
         // The largest side every limit takes (texel bytes included), and the limit that sets it.
-        let side = if limits.height.value < limits.width.value { limits.height } else { limits.width };
-        let by_bytes = (limits.bytes.value / (u64::from(desc.layers) * MAP_TEXEL_BYTES)).isqrt();
-        let (max, binding) = if by_bytes < side.value { (by_bytes, limits.bytes) } else { (side.value, side) };
+        let (max, binding) = max_resolution(kind, &limits);
         let min = ShadowMapSettings::MIN_RESOLUTION;
         let over = u64::from(resolution) > max || limits.broken_by(&desc).is_some();
         if resolution < min || over {
@@ -129,7 +149,7 @@ impl ShadowMapPass {
                 limit: over.then_some(binding),
             });
         }
-        Ok(crate::budget::image_bytes(resolution, desc.layers, MAP_TEXEL_BYTES))
+        Ok(crate::budget::desc_bytes(&desc, MAP_TEXEL_BYTES))
     }
 
     /// Makes sure light `light` has a map of `resolution` and `kind`, (re)creating it if not;
@@ -145,23 +165,25 @@ impl ShadowMapPass {
         if self.targets.len() <= light {
             self.targets.resize_with(light + 1, || None);
         }
-        let fits = self.targets[light]
-            .as_ref()
-            .is_some_and(|t| t.image.desc.width == resolution && t.image.desc.cube == (kind == MapKind::Cube));
+        let desc = map_desc(resolution, kind);
+        let fits = self.targets[light].as_ref().is_some_and(|t| {
+            let d = &t.image.desc;
+            (d.width, d.height, d.cube) == (desc.width, desc.height, desc.cube)
+        });
         if fits {
             return Ok(());
         }
         self.check(ctx, light, resolution, kind)?;
         retired.take(&mut self.targets[light]);
         let name = format!("shadow map light {light}");
-        let image = Image::new(ctx, &name, map_desc(resolution, kind))?;
+        let image = Image::new(ctx, &name, desc)?;
         let faces = match kind {
-            MapKind::Single => Vec::new(),
+            MapKind::Single | MapKind::FaceAtlas => Vec::new(),
             MapKind::Cube => {
-                (0..6).map(|f| image.layer_view(f, &format!("{name} face {f}"))).collect::<Result<_, _>>()?
+                (0..atlas::FACES).map(|f| image.layer_view(f, &format!("{name} face {f}"))).collect::<Result<_, _>>()?
             }
         };
-        self.targets[light] = Some(ShadowTarget { image, faces });
+        self.targets[light] = Some(ShadowTarget { image, resolution, faces });
         Ok(())
     }
 
@@ -173,7 +195,7 @@ impl ShadowMapPass {
 
     /// Records the depth pass of light `light` (prepared with [`ShadowMapPass::prepare`], its map
     /// in [`ImageState::DepthStencilAttachment`]): one rendering per map layer, casters front
-    /// to back.
+    /// to back; a face atlas is one rendering, each face drawn into its tile.
     /// `bias_clamp` limits the depth bias (map depth units, 0 = no limit).
     #[allow(clippy::too_many_arguments)]
     pub fn record<'a>(
@@ -189,17 +211,18 @@ impl ShadowMapPass {
         log: &mut PassLog,
     ) -> RenderResult<()> {
         let target = self.target(light)?;
-        for layer in 0..views.views.len() {
+        // A depth rendering into one cube face, or into the whole map, cleared to 1.
+        let begin = |rec: &mut Recorder<'a>, view: Option<&'a ImageView>| {
             rec.begin_rendering(&RenderTargets {
                 color: &[],
-                depth: Some(DepthAttachment {
-                    view: target.faces.get(layer),
-                    ..DepthAttachment::cleared(&target.image, 1.0, 0)
-                }),
+                depth: Some(DepthAttachment { view, ..DepthAttachment::cleared(&target.image, 1.0, 0) }),
             });
             rec.bind_pipeline(&self.pipeline);
             rec.set_depth_bias(self.settings.bias.constant, bias_clamp, self.settings.effective_slope());
             rec.bind_descriptor_set(layout, 0, &gpu.frame.set);
+        };
+        // View `layer`'s casters, with its view-projection.
+        let mut draw = |rec: &mut Recorder<'a>, layer: usize| {
             let mut bound = Bound::Nothing;
             for &object in views.casters_of(layer) {
                 let Some(mesh) = scene.objects.get(object).map(|o| o.mesh) else { continue };
@@ -209,7 +232,24 @@ impl ShadowMapPass {
                 rec.push_constants(layout, &DrawPush { object: object as u32, view: first_view + layer as u32 });
                 log.count_draw(gpu.geometry.draw(rec, mesh, 1, &mut bound));
             }
-            rec.end_rendering();
+        };
+        match views.kind {
+            // One rendering: each face drawn into its tile.
+            MapKind::FaceAtlas => {
+                begin(rec, None);
+                for face in 0..views.views.len() {
+                    rec.set_viewport_rect(atlas::face_rect(face as u32, target.resolution));
+                    draw(rec, face);
+                }
+                rec.end_rendering();
+            }
+            MapKind::Single | MapKind::Cube => {
+                for layer in 0..views.views.len() {
+                    begin(rec, target.faces.get(layer));
+                    draw(rec, layer);
+                    rec.end_rendering();
+                }
+            }
         }
         Ok(())
     }
@@ -267,5 +307,37 @@ impl ShadowMapPass {
             why: "recorded before `prepare`".into(),
             limit: None,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn limits(width: u64, height: u64, bytes: u64) -> ImageLimits {
+        let limit = |name, value, bytes| Limit { name, value, bytes };
+        ImageLimits {
+            width: limit("maxImageDimension2D", width, false),
+            height: limit("maxFramebufferHeight", height, false),
+            layers: limit("maxImageArrayLayers", 2048, false),
+            bytes: limit("maxMemoryAllocationSize", bytes, true),
+        }
+    }
+
+    #[test]
+    fn the_largest_resolution_of_each_kind_names_its_limit() {
+        let (max, limit) = max_resolution(MapKind::Single, &limits(16384, 8192, u64::MAX));
+        assert_eq!((max, limit.name), (8192, "maxFramebufferHeight"));
+        // Six faces of 4-byte texels in 1 GiB: 6 * 4 * 6688² fits, 6689² does not.
+        let (max, limit) = max_resolution(MapKind::Cube, &limits(16384, 16384, 1 << 30));
+        assert_eq!((max, limit.name), (6688, "maxMemoryAllocationSize"));
+        // A face atlas: three faces with their borders across 16384 texels, two down 16384.
+        let (max, limit) = max_resolution(MapKind::FaceAtlas, &limits(16384, 16384, u64::MAX));
+        assert_eq!((max, limit.name), (16384 / 3 - 4, "maxImageDimension2D"));
+        let (w, h) = MapKind::FaceAtlas.extent(max as u32);
+        assert!(w <= 16384 && h <= 16384);
+        assert!(MapKind::FaceAtlas.extent(max as u32 + 1).0 > 16384, "one more texel breaks the width");
+        let (max, limit) = max_resolution(MapKind::FaceAtlas, &limits(32768, 32768, 1 << 30));
+        assert_eq!((max, limit.name), (6688 - 4, "maxMemoryAllocationSize"));
     }
 }

@@ -11,8 +11,11 @@
 //!    where they disagree, the skewed quadrant of the five silhouette points picks the corner.
 //!
 //! `geometry` is the CPU mirror of the shaders' point picking and quadrant test, unit-tested.
-//! Spot (up to 80° half-angle) and directional lights are supported; point lights (cube maps)
-//! are a typed error, [`crate::RenderError::UnsupportedLight`].
+//! Directional lights and spots up to 80° half-angle take one 2D map each. Point lights (and
+//! wider spots) take a face atlas (`shadow_map::atlas`): the six cube faces side by side in one
+//! 2D depth map and one 2D silhouette map, each face widened by a two-texel border so that the
+//! lookup, in the face the direction picks, reads no texel of another face; pass 2 draws the
+//! edges into every face.
 
 pub(crate) mod edges;
 pub mod geometry;

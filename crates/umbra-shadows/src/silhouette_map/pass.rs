@@ -7,6 +7,8 @@ use super::geometry::DEFAULT_POINT;
 use crate::forward;
 use crate::gpu_scene::{DrawPush, GpuScene};
 use crate::retired::Retired;
+use crate::shadow_map::atlas;
+use crate::shadow_map::frustum::MapKind;
 use crate::shadow_map::ShadowMapSettings;
 use crate::timing::PassLog;
 use crate::{RenderError, RenderResult};
@@ -19,11 +21,13 @@ use umbra_vk::{
 /// Texel-local silhouette points, two floats per texel.
 pub(crate) const FORMAT: vk::Format = vk::Format::R32G32_SFLOAT;
 
-/// A `resolution`² silhouette map: rendered to, sampled, and copied out for diagnostics.
-fn map_desc(resolution: u32) -> ImageDesc {
+/// The silhouette map over a depth map of `resolution` and `kind` (a `resolution`² map, or a
+/// face atlas): rendered to, sampled, and copied out for diagnostics.
+fn map_desc(resolution: u32, kind: MapKind) -> ImageDesc {
     let usage =
         vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC;
-    ImageDesc::new_2d(FORMAT, resolution, resolution).usage(usage)
+    let (width, height) = kind.extent(resolution);
+    ImageDesc::new_2d(FORMAT, width, height).usage(usage)
 }
 
 /// Vertices of one edge's quad: two triangles (`edges.vert`).
@@ -90,10 +94,11 @@ impl SilhouetteMapPass {
         Ok(Self { points, diagnostics, placeholder, targets: Vec::new() })
     }
 
-    /// Checks that light `light` can have a `resolution`² silhouette map on this device (every
-    /// limit of an RG32F attachment, [`Context::image_limits`]); returns the bytes it takes.
-    pub fn check(&self, ctx: &Context, light: usize, resolution: u32) -> RenderResult<u64> {
-        let desc = map_desc(resolution);
+    /// Checks that light `light` can have a silhouette map over its `resolution` depth map of
+    /// `kind` on this device (every limit of an RG32F attachment, [`Context::image_limits`]);
+    /// returns the bytes it takes.
+    pub fn check(&self, ctx: &Context, light: usize, resolution: u32, kind: MapKind) -> RenderResult<u64> {
+        let desc = map_desc(resolution, kind);
         if let Some((_, limit)) = ctx.image_limits(&desc)?.broken_by(&desc) {
             let device = &ctx.capabilities().device_name;
             return Err(RenderError::InvalidShadowMap {
@@ -103,21 +108,30 @@ impl SilhouetteMapPass {
                 limit: Some(limit),
             });
         }
-        Ok(crate::budget::image_bytes(resolution, 1, 8))
+        Ok(crate::budget::desc_bytes(&desc, 8))
     }
 
-    /// Makes sure light `light` has a `resolution`² silhouette map; a new map is checked
-    /// first ([`Self::check`]), a kept one was when it was made.
-    pub fn prepare(&mut self, ctx: &Context, light: usize, resolution: u32, retired: &mut Retired) -> RenderResult<()> {
+    /// Makes sure light `light` has a silhouette map over its `resolution` depth map of
+    /// `kind`; a new map is checked first ([`Self::check`]), a kept one was when it was made.
+    pub fn prepare(
+        &mut self,
+        ctx: &Context,
+        light: usize,
+        resolution: u32,
+        kind: MapKind,
+        retired: &mut Retired,
+    ) -> RenderResult<()> {
         if self.targets.len() <= light {
             self.targets.resize_with(light + 1, || None);
         }
-        if self.targets[light].as_ref().is_some_and(|t| t.desc.width == resolution) {
+        let desc = map_desc(resolution, kind);
+        let same = |t: &Image| (t.desc.width, t.desc.height) == (desc.width, desc.height);
+        if self.targets[light].as_ref().is_some_and(same) {
             return Ok(());
         }
-        self.check(ctx, light, resolution)?;
+        self.check(ctx, light, resolution, kind)?;
         retired.take(&mut self.targets[light]);
-        self.targets[light] = Some(Image::new(ctx, &format!("silhouette map light {light}"), map_desc(resolution))?);
+        self.targets[light] = Some(Image::new(ctx, &format!("silhouette map light {light}"), desc)?);
         Ok(())
     }
 
@@ -133,7 +147,8 @@ impl SilhouetteMapPass {
 
     /// Records pass 2 for light `light` (its silhouette map in
     /// [`ImageState::ColorAttachment`]): clear to the default point, draw its `edges` (a range
-    /// of `instances`) as quads reading the depth map through `depth_set`.
+    /// of `instances`) as quads reading the depth map through `depth_set`; into each face of a
+    /// face atlas (`map`: its kind and resolution) in turn, its edges clipped to the face.
     #[allow(clippy::too_many_arguments)]
     pub fn record_points<'a>(
         &'a self,
@@ -144,6 +159,7 @@ impl SilhouetteMapPass {
         light: usize,
         instances: Option<&'a Buffer>,
         edges: LightEdges,
+        map: (MapKind, u32),
         log: &mut PassLog,
     ) -> RenderResult<()> {
         let target = self.targets.get(light).and_then(Option::as_ref).ok_or(RenderError::InvalidShadowMap {
@@ -159,9 +175,16 @@ impl SilhouetteMapPass {
             rec.bind_descriptor_set(layout, 0, &gpu.frame.set);
             rec.bind_descriptor_set(layout, 1, depth_set);
             rec.bind_vertex_buffer(buffer);
-            rec.push_constants(layout, &DrawPush { object: 0, view: light as u32 });
-            rec.draw_instanced(VERTICES_PER_EDGE, edges.count, edges.first);
-            log.count_draw(u64::from(VERTICES_PER_EDGE / 3 * edges.count));
+            let (kind, resolution) = map;
+            for face in 0..kind.views() {
+                if kind == MapKind::FaceAtlas {
+                    rec.set_viewport_rect(atlas::face_rect(face, resolution));
+                }
+                // `object` names the face (edges.vert): the edges are the light's, not an object's.
+                rec.push_constants(layout, &DrawPush { object: face, view: light as u32 });
+                rec.draw_instanced(VERTICES_PER_EDGE, edges.count, edges.first);
+                log.count_draw(u64::from(VERTICES_PER_EDGE / 3 * edges.count));
+            }
         }
         rec.end_rendering();
         Ok(())
