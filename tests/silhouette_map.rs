@@ -1,8 +1,9 @@
 //! Silhouette maps against exact geometry: a straight occluder edge at 30° to the map's grid
 //! (the silhouette map keeps misclassified pixels within a quarter texel of the true edge, the
 //! shadow map at the same resolution does not), a hidden silhouette that must not be stored,
-//! degenerate edges that must not store NaNs or points outside their texel, and agreement with
-//! shadow volumes on a spot-lit scene.
+//! degenerate edges that must not store NaNs or points outside their texel, the same straight
+//! edge under a point light across a seam of its cube (face atlas), and agreement with shadow
+//! volumes on spot-lit and on point-lit scenes.
 
 mod common;
 
@@ -57,6 +58,17 @@ fn camera_below(centre: Vec2, half_width: f32) -> Camera {
     Camera { up: Vec3::Z, fov_y_deg: fov, near: 0.05, far: Some(2.0), ..Camera::look_at(eye, eye - Vec3::Y) }
 }
 
+/// Saves `frame` as `{prefix}-{technique}.png` and its classification, where it has one, as
+/// `{prefix}-classes.png` in the test's output folder.
+fn save_views(frame: &Frame, prefix: &str, technique: &str) {
+    let dir = common::output_dir("silhouette_map");
+    frame.save_png(&dir.join(format!("{prefix}-{technique}.png"))).unwrap();
+    for d in &frame.diagnostics {
+        let path = dir.join(format!("{prefix}-classes.png"));
+        image::save_buffer(path, &d.classification, SIZE, SIZE, image::ColorType::Rgba8).unwrap();
+    }
+}
+
 /// World units per texel of the frame's only light (asserting square texels).
 fn texel(frame: &Frame) -> f32 {
     let [tx, ty] = frame.report.lights[0].shadow_map.as_ref().and_then(|m| m.texel_size).expect("orthographic map");
@@ -105,11 +117,7 @@ fn a_straight_edge_at_30_degrees_is_reconstructed_within_a_quarter_texel() {
             s.camera = camera_below(centre, 0.45);
             let frame = render(ctx, &s, resolution, technique == Technique::SilhouetteMap);
             let name = technique.name();
-            for d in &frame.diagnostics {
-                let path = common::output_dir("silhouette_map").join("edge-30-classes.png");
-                image::save_buffer(path, &d.classification, SIZE, SIZE, image::ColorType::Rgba8).unwrap();
-            }
-            frame.save_png(&common::output_dir("silhouette_map").join(format!("edge-30-{name}.png"))).unwrap();
+            save_views(&frame, "edge-30", name);
             let texel = texel(&frame);
             let (worst, compared, shadowed) = worst_misclassified(&frame, &s.camera, &square, |_| texel);
             let corner_distance = square.iter().map(|c| c.distance(centre)).fold(f32::INFINITY, f32::min) / texel;
@@ -151,11 +159,7 @@ fn a_straight_edge_across_a_cube_seam_is_reconstructed_within_a_quarter_texel() 
             s.camera = camera_below(seam, 0.45);
             let frame = render(ctx, &s, resolution, technique == Technique::SilhouetteMap);
             let name = technique.name();
-            frame.save_png(&common::output_dir("silhouette_map").join(format!("edge-seam-{name}.png"))).unwrap();
-            for d in &frame.diagnostics {
-                let path = common::output_dir("silhouette_map").join("edge-seam-classes.png");
-                image::save_buffer(path, &d.classification, SIZE, SIZE, image::ColorType::Rgba8).unwrap();
-            }
+            save_views(&frame, "edge-seam", name);
             // A texel's smaller side on the floor: 2H / N in the −y face, whose image plane is
             // parallel to the floor; 2m / N at horizontal distance m > H, in a side face.
             let texel = |q: Vec2| 2.0 * q.abs().max_element().max(light_height) / resolution as f32;
