@@ -114,6 +114,7 @@ hard_case! {
     case_28_thin_parts_on_a_large_floor => "28-thin-parts-on-a-large-floor",
     case_29_near_plane_slices_an_occluder_under_a_low_sun => "29-near-plane-slices-an-occluder-under-a-low-sun",
     case_30_point_light_in_a_room_of_occluders => "30-point-light-in-a-room-of-occluders",
+    case_31_near_plane_cuts_a_sun_volume_at_the_frame_border => "31-near-plane-cuts-a-sun-volume-at-the-frame-border",
 }
 
 /// Adds a spot light to `s` with its cone changed by `f`.

@@ -58,12 +58,16 @@ impl VolumeInput {
 }
 
 /// Depth bias of front caps cut on the host (`clip.rs`): `(constant, slope)` factors. Cut,
-/// a cap interpolates its caster's plane from other vertices than the caster's own draw, and
-/// both snap to the subpixel grid (1/16 px on SwiftShader), so their depths differ by up to
-/// about the depth change across 1/32 px plus rounding; pushed back by a quarter pixel's depth
-/// change and 8 units of the format's resolution, the cap still fails LESS where its caster is
-/// the visible surface. Uncut triangles are drawn with no bias (both factors 0: depth exact).
-pub(crate) const CUT_CAP_BIAS: (f32, f32) = (8.0, 0.25);
+/// a cap interpolates its caster's plane from other vertices than the caster's own draw (whose
+/// triangles the driver clips for itself, often against the near plane with vertices far off
+/// screen), and both snap to the subpixel grid (1/16 px on SwiftShader), so their depths differ
+/// by a fraction of the depth change across one pixel: hard case 31 (a floor seen near the
+/// frame's bottom-left corner) measured up to 0.4 of it, where a bias of 0.25 left a 1 265-pixel
+/// false-shadow wedge. Pushed back by one pixel's depth change (2.5 times the largest drift
+/// measured) and 8 units of the format's resolution, the cap still fails LESS where its caster
+/// is the visible surface; for a closed caster it then lies inside the caster, where no visible
+/// surface is. Uncut triangles are drawn with no bias (both factors 0: depth exact).
+pub(crate) const CUT_CAP_BIAS: (f32, f32) = (8.0, 1.0);
 
 /// Stencil ops of one face: `op` on `when` (pass or depth-fail), KEEP otherwise.
 fn face(op: vk::StencilOp, on_depth_fail: bool) -> StencilFace {
