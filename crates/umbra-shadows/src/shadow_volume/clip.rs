@@ -6,14 +6,17 @@
 //! driver nothing to clip, and the same volumes count exactly on both drivers.
 //!
 //! Every volume triangle is clipped in f64 against z ≥ 0 and |x|, |y| ≤ [`INSIDE`]·w
-//! (Sutherland–Hodgman). A cut point on an original edge is expressed as that edge and a
-//! parameter computed from the edge's two endpoints alone, in one order, so the two triangles
-//! sharing the edge emit the same vertex; the vertex shader (`shadow_volume/extrude_clipped.vert`)
-//! places it between the endpoints it transforms exactly as `extrude.vert` does, so the vertices
-//! a triangle keeps (the front cap's, on its caster) stay bit-identical to the caster's own.
-//! Points where two clip planes meet lie on the boundary of the clipped region, within 10⁻⁴ of
-//! the view's edge, where no pixel centre is: they are sent in clip space.
-//!
+//! (Sutherland–Hodgman). A cut point on an original edge is computed from that edge's two
+//! endpoints alone, in one order, so the two triangles sharing the edge emit the same vertex;
+//! like the points where two clip planes meet, it is sent in clip space, rounded from f64
+//! once: within 10⁻⁷ of the view's edge, inside the 10⁻⁴ margin where no pixel centre is.
+//! (Placed on the GPU between its edge's f32 endpoints instead, a cut point far from both
+//! moves by the endpoints' rounding: at 10⁵ units, by more than the margin, and a volume
+//! piece left a column of pixels at the frame's border to its partner alone; hard case 32.)
+//! The vertices a triangle keeps are sent as volume vertices, which the vertex shader
+//! (`shadow_volume/extrude_clipped.vert`) places exactly as `extrude.vert` does, so a front
+//! cap's stay bit-identical to its caster's own.
+
 //! A front cap that leaves the view is cut too: left to the driver, two cap triangles sharing
 //! an edge (a floor's two top triangles) leave pixels along it to neither or both, counted
 //! wrong behind whatever hides the floor. Cut, its interpolated depth is no longer the
@@ -33,8 +36,7 @@ use umbra_vk::{vk, VertexAttribute};
 pub(crate) const INSIDE: f64 = 0.9999;
 
 /// One vertex of a host-clipped volume: `t = 0`, the volume vertex `a` (object space, w = 0 at
-/// infinity); `0 < t < 1`, the point `a + t (b − a)` of the edge between volume vertices `a` and
-/// `b`, in clip space; `t < 0`, `b` is a clip-space position.
+/// infinity); `t < 0`, `b` is a clip-space position (a cut point).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub(crate) struct ClippedVertex {
@@ -174,8 +176,9 @@ fn clip_triangle(
     }
     let vertex = |p: Point| match p {
         Point::Vertex(k) => ClippedVertex { a: v[k].to_array(), b: [0.0; 4], t: 0.0 },
-        Point::Edge { i, j, t } => ClippedVertex { a: v[i].to_array(), b: v[j].to_array(), t: t as f32 },
-        Point::Corner(c) => ClippedVertex { a: [0.0; 4], b: c.as_vec4().to_array(), t: -1.0 },
+        Point::Edge { .. } | Point::Corner(_) => {
+            ClippedVertex { a: [0.0; 4], b: position(p).as_vec4().to_array(), t: -1.0 }
+        }
     };
     for k in 1..poly.len() - 1 {
         out.extend([vertex(poly[0]), vertex(poly[k]), vertex(poly[k + 1])]);
@@ -193,16 +196,14 @@ mod tests {
         clip_triangle(v, |p| clip[p.x as usize].as_dvec4(), out, &mut Vec::new());
     }
 
-    /// The f64 clip position a clipped vertex stands for, given the clip positions of the
-    /// volume vertices by index (as the vertex shader places it).
+    /// The clip position a clipped vertex stands for, given the clip positions of the volume
+    /// vertices by index (as the vertex shader places it).
     fn placed(v: &ClippedVertex, clip: &[Vec4; 3]) -> DVec4 {
         let at = |p: [f32; 4]| clip[p[0] as usize].as_dvec4();
         if v.t < 0.0 {
             Vec4::from_array(v.b).as_dvec4()
-        } else if v.t == 0.0 {
-            at(v.a)
         } else {
-            at(v.a) + (at(v.b) - at(v.a)) * f64::from(v.t)
+            at(v.a)
         }
     }
 
@@ -244,14 +245,38 @@ mod tests {
         let v = [Vec4::new(1.0, 0.0, 0.0, 0.0), Vec4::new(0.0, 0.0, 0.0, 0.0), Vec4::new(2.0, 0.0, 0.0, 0.0)];
         let clip_two = [a, b, d];
         clip_triangle(v, |p| clip_two[p.x as usize].as_dvec4(), &mut two, &mut Vec::new());
-        let on_edge = |vs: &[ClippedVertex]| -> Vec<ClippedVertex> {
-            vs.iter().filter(|v| v.t > 0.0 && v.a[0] < 2.0 && v.b[0] < 2.0).copied().collect()
-        };
-        let (e1, e2) = (on_edge(&one), on_edge(&two));
-        assert!(!e1.is_empty() && !e2.is_empty());
-        assert_eq!(e1[0], e2[0], "the same cut point, expressed the same way");
-        let p = placed(&e1[0], &clip_one);
+        // Cut points are sent in clip space; the one on the shared edge is in both, bit for bit.
+        let cut = |vs: &[ClippedVertex]| -> Vec<ClippedVertex> { vs.iter().filter(|v| v.t < 0.0).copied().collect() };
+        let (e1, e2) = (cut(&one), cut(&two));
+        let shared: Vec<_> = e1.iter().filter(|v| e2.contains(v)).collect();
+        assert_eq!(shared.len(), 1, "one cut point on the shared edge: {e1:?} {e2:?}");
+        let p = placed(shared[0], &clip_one);
         assert!((p.x - INSIDE * p.w).abs() < 1e-6, "{p}");
+        // On the edge between a and b.
+        let (a, b) = (a.as_dvec4(), b.as_dvec4());
+        let s = (p.x - a.x) / (b.x - a.x);
+        assert!((a + (b - a) * s - p).abs().max_element() < 1e-6, "{p} not on the edge");
+    }
+
+    /// Far from its edge's endpoints (10⁶ clip units away) a cut point still lies on the clip
+    /// plane to f32 precision: within the margin `INSIDE` leaves to the view's edge.
+    #[test]
+    fn cut_points_far_from_their_endpoints_stay_inside_the_margin() {
+        // An edge from a point 1e6 to the left of the view to one just inside it.
+        let a = Vec4::new(-1.0e6, 0.0, 5.0, 10.0);
+        let b = Vec4::new(0.5, 0.3, 5.0, 10.0);
+        let c = Vec4::new(0.5, -0.3, 5.0, 10.0);
+        let mut out = Vec::new();
+        clip_at([a, b, c], &mut out);
+        let clip = [a, b, c];
+        let cut: Vec<_> = out.iter().filter(|v| v.t < 0.0).collect();
+        assert!(!cut.is_empty());
+        for v in cut {
+            // As the GPU receives it: f32 clip coordinates, divided once.
+            let p = Vec4::from_array(v.b);
+            let ndc = p.x / p.w;
+            assert!((f64::from(ndc) + INSIDE).abs() < 1e-6, "{ndc} for {:?}", placed(v, &clip));
+        }
     }
 
     /// Signed coverage of the NDC point `p` by clipped triangles: +1 counter-clockwise.
