@@ -106,7 +106,7 @@ fn main() -> anyhow::Result<()> {
             _ => {}
         }
     }
-    common::warn_open_casters(&frame.report);
+    common::print_warnings(&frame.report);
     common::write_outputs(&args.common, "hybrid", &frame)?;
     common::print_score(&args.common, &scene, &frame)?;
     if args.debug_view {

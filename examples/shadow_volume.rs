@@ -95,7 +95,7 @@ fn main() -> anyhow::Result<()> {
             );
         }
     }
-    common::warn_open_casters(&frame.report);
+    common::print_warnings(&frame.report);
     common::write_outputs(&args.common, "shadow_volume", &frame)?;
     if let Some(overdraw) = &frame.overdraw {
         let heat: Vec<u8> = overdraw.chunks_exact(4).flat_map(|p| common::views::heat(p[0])).collect();

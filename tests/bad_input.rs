@@ -101,20 +101,32 @@ fn buffer_links_out_of_the_gltf_folder_are_not_followed() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// `Camera::MIN_NEAR_RATIO` is where the conformance suite measured exactness: hard case 07
-/// (exact with shadow volumes and the hybrid on both drivers) sits just above it, and the same
-/// camera with a near plane a tenth closer is refused.
+/// `Camera::MIN_NEAR_RATIO` refuses only a near plane whose depth cannot tell the scene's
+/// farthest point from infinity: the open world of hard case 32 (near 0.1, 7e-7 of its reach)
+/// is accepted, and its camera with the near plane just below the bound is refused, naming
+/// depth precision. Hard case 07 sits just above `EXACT_NEAR_RATIO`, where shadow volumes are
+/// measured exact.
 #[test]
-fn the_near_plane_bound_is_where_hard_case_07_is_measured_exact() {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/hard-cases/07-huge-coordinates.toml");
-    let mut scene = umbra::scene::load(&path.to_string_lossy()).expect("case 07 loads");
-    let ratio = scene.camera.near / scene.camera_reach();
+fn the_near_plane_bound_accepts_open_worlds_and_refuses_below_it() {
+    let cases = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/hard-cases");
+    let load = |file: &str| umbra::scene::load(&cases.join(file).to_string_lossy()).expect("the case loads");
     let bound = umbra::scene::Camera::MIN_NEAR_RATIO;
-    println!("case 07: near / reach = {ratio:e}; bound {bound:e}");
-    assert!((bound..bound * 1.25).contains(&ratio), "case 07 should sit just above the bound: {ratio:e}");
-    scene.camera.near *= 0.9;
-    let e = scene.validate().expect_err("below the bound");
+    let mut world = load("32-open-world-near-0-1-far-44-km.toml");
+    let ratio = world.camera.near / world.camera_reach();
+    println!("case 32: near / reach = {ratio:e}; bound {bound:e}");
+    assert!(ratio < 1e-6 && ratio > bound, "case 32 should be an open world above the bound: {ratio:e}");
+    world.validate().expect("an open world is accepted");
+    world.camera.near = bound * world.camera_reach() * 0.99;
+    let e = world.validate().expect_err("below the bound");
     assert!(e.to_string().contains("depth precision"), "{e}");
+    world.camera.near = bound * world.camera_reach() * 1.01;
+    world.validate().expect("just above the bound");
+
+    let huge = load("07-huge-coordinates.toml");
+    let ratio = huge.camera.near / huge.camera_reach();
+    let exact = umbra::scene::Camera::EXACT_NEAR_RATIO;
+    println!("case 07: near / reach = {ratio:e}; measured exact from {exact:e}");
+    assert!((exact..exact * 1.25).contains(&ratio), "case 07 should sit just above the exact ratio: {ratio:e}");
 }
 
 /// `docs/input.md` tabulates the corpus: every file in it is listed there.

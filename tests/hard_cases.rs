@@ -115,6 +115,7 @@ hard_case! {
     case_29_near_plane_slices_an_occluder_under_a_low_sun => "29-near-plane-slices-an-occluder-under-a-low-sun",
     case_30_point_light_in_a_room_of_occluders => "30-point-light-in-a-room-of-occluders",
     case_31_near_plane_cuts_a_sun_volume_at_the_frame_border => "31-near-plane-cuts-a-sun-volume-at-the-frame-border",
+    case_32_open_world_near_0_1_far_44_km => "32-open-world-near-0-1-far-44-km",
 }
 
 /// Adds a spot light to `s` with its cone changed by `f`.
@@ -214,4 +215,83 @@ fn case_28_shadow_map_is_conformant_at_every_map_size() {
 #[test]
 fn case_09_shadow_map_is_conformant_at_a_frame_sized_map() {
     shadow_map_conformant_at("09-zero-area-and-needles", &[256]);
+}
+
+/// Why case 32 submits its ground in 3 × 3 cells, as engines submit terrain: one quad 200 km
+/// across, seen through a near plane of 0.1, reaches far past the view where the near plane
+/// cuts it, and SwiftShader's rasterizer then loses it (the bottom-centre pixel holds no
+/// surface, 3.7 m from where the eye ray meets the ground; a 2 km quad is drawn 7 % too far,
+/// a 60 km box shows its underside), while lavapipe places it within a millimetre. Cells of 200 m under the eye keep both
+/// drivers exact (case 32 is strict on both). Measured by the G-buffer, not by shadows: every
+/// technique shades the points the G-buffer holds.
+#[test]
+fn one_ground_quad_200_km_across_is_rasterized_exactly_by_lavapipe_only() {
+    let case = umbra_conformance::case("32-open-world-near-0-1-far-44-km").expect("case 32");
+    let mut scene = umbra::scene::load_scene_file(&umbra_conformance::case_path(&cases_dir(), case)).expect("scene");
+    let ground = scene.meshes.iter().position(|m| m.name == "ground").expect("a ground");
+    scene.meshes[ground] = umbra::scene::primitives::plane(200_000.0);
+    // The point the eye ray through the bottom-centre pixel meets on the ground (y = 0).
+    let (w, h) = common::SIZE;
+    let (x, y) = (w / 2, h - 2);
+    let inverse = scene.camera.view_proj(w as f32 / h as f32).inverse();
+    let ndc = glam::Vec2::new((x as f32 + 0.5) / w as f32 * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / h as f32 * 2.0);
+    let far = inverse.project_point3(ndc.extend(0.5));
+    let eye = scene.camera.position;
+    let truth = eye + (far - eye) * (eye.y / (eye.y - far.y));
+    common::with_context(|ctx| {
+        let swiftshader = ctx.capabilities().device_name.contains("SwiftShader");
+        let mut desc = RendererDesc::new(w, h);
+        desc.gbuffer = true;
+        let frame = Renderer::new(ctx, desc).and_then(|mut r| r.render(&scene)).expect("renders");
+        let p = frame.gbuffer.as_ref().expect("G-buffer").position[(y * w + x) as usize];
+        let error = (glam::Vec3::new(p[0], p[1], p[2]) - truth).length();
+        println!(
+            "one 200 km ground quad, near 0.1, pixel ({x}, {y}) on {}: G-buffer point {:?} ({}), the eye ray meets the ground at {truth}: {error:.4} apart",
+            ctx.capabilities().device_name,
+            &p[..3],
+            if p[3] == 0.0 { "no surface drawn" } else { "a surface drawn" }
+        );
+        if swiftshader {
+            assert!(error > 0.1, "SwiftShader placed the point within {error}: case 32 could use one quad");
+        } else {
+            assert!(error < 1e-3, "lavapipe placed the point {error} away");
+        }
+    });
+}
+
+/// The frame report says where the camera's depth is coarser than where shadow volumes are
+/// measured exact: in case 32 (near 0.1, the ground's far corner 141 km away) every
+/// shadow-volume and hybrid light carries `depth_precision`, its step 2⁻²⁴ d² / near, with a
+/// warning naming the light; case 07, just above `Camera::EXACT_NEAR_RATIO`, carries none.
+#[test]
+fn the_report_gives_the_depth_step_where_it_is_coarser_than_measured_exact() {
+    let load = |file: &str| {
+        let case = umbra_conformance::case(file).expect("a case");
+        umbra::scene::load_scene_file(&umbra_conformance::case_path(&cases_dir(), case)).expect("scene")
+    };
+    common::with_context(|ctx| {
+        for (file, warned) in [("32-open-world-near-0-1-far-44-km", true), ("07-huge-coordinates", false)] {
+            let mut scene = load(file);
+            for technique in [umbra::scene::Technique::ShadowVolume, umbra::scene::Technique::Hybrid] {
+                scene.lights.iter_mut().for_each(|l| l.technique = technique);
+                let desc = RendererDesc::new(common::SIZE.0, common::SIZE.1);
+                let frame = Renderer::new(ctx, desc).and_then(|mut r| r.render(&scene)).expect("renders");
+                for l in &frame.report.lights {
+                    let volumes = l.shadow_volume.as_ref().expect("a volume report");
+                    match (volumes.depth_precision, warned) {
+                        (Some(p), true) => {
+                            let expected = p.distance * p.distance / scene.camera.near / 16_777_216.0;
+                            assert!((p.step / expected - 1.0).abs() < 1e-3, "{p:?}");
+                            assert!(p.distance > 1.4e5 && p.step > 1e4, "{p:?}");
+                            let warning = p.warning(l.light);
+                            assert!(warning.contains(&format!("light {}", l.light)), "{warning}");
+                            println!("{file}, {}: {warning}", technique.name());
+                        }
+                        (None, false) => println!("{file}, {}: no depth-precision warning", technique.name()),
+                        (p, _) => panic!("{file}, {}: depth precision {p:?}", technique.name()),
+                    }
+                }
+            }
+        }
+    });
 }

@@ -147,12 +147,19 @@ pub fn init_logging() {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("info")).init();
 }
 
-/// Prints one warning line per open or non-manifold caster mesh (the frame report's
-/// `scene.topology`), for the examples whose shadow volumes depend on closed meshes.
+/// Prints the frame report's warnings for the examples whose shadow volumes depend on closed
+/// meshes and on the camera's depth: one line per open or non-manifold caster mesh
+/// (`scene.topology`) and one per light whose volumes count against a depth coarser than
+/// where they are measured exact (`ShadowVolumeReport::depth_precision`).
 #[allow(dead_code)]
-pub fn warn_open_casters(report: &umbra::shadows::FrameReport) {
+pub fn print_warnings(report: &umbra::shadows::FrameReport) {
     for warning in report.scene.topology.iter().filter_map(umbra::shadows::MeshTopology::warning) {
         println!("{warning}");
+    }
+    for l in &report.lights {
+        if let Some(p) = l.shadow_volume.as_ref().and_then(|v| v.depth_precision) {
+            println!("{}", p.warning(l.light));
+        }
     }
 }
 

@@ -168,6 +168,7 @@ pub const CASES: &[Case] = &[
     Case { file: "29-near-plane-slices-an-occluder-under-a-low-sun", outcome: STRICT },
     Case { file: "30-point-light-in-a-room-of-occluders", outcome: STRICT },
     Case { file: "31-near-plane-cuts-a-sun-volume-at-the-frame-border", outcome: STRICT },
+    Case { file: "32-open-world-near-0-1-far-44-km", outcome: STRICT },
 ];
 
 /// The case whose file stem is `file`.

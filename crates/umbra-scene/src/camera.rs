@@ -42,17 +42,31 @@ impl Camera {
         Self { position, target, up: Vec3::Y, fov_y_deg: fov(), near: near(), far: Some(200.0) }
     }
 
-    /// The smallest `near`, as a fraction of the distance from the eye to the farthest point
-    /// of the scene, that [`Camera::validate`] accepts. Hard case 07 (geometry at 1e5–1e6
-    /// units, near = 100 at distances up to ~8e5: a ratio of ~1.2e-4) is exact with shadow
-    /// volumes and the hybrid on both CPU drivers; `tests/hostile_camera.rs` renders a camera at
-    /// exactly this ratio and checks shadow volumes against the reference.
-    pub const MIN_NEAR_RATIO: f32 = 1e-4;
+    /// The smallest `near`, as a fraction of the distance from the eye to the scene's farthest
+    /// point, that [`Camera::validate`] accepts: 2⁻²³ (about 1.2e-7). umbra's camera depth is
+    /// standard (0 at the near plane, 1 at infinity): a point `d` away lies at depth
+    /// `1 − near / d`, and the depth values just below 1 are 2⁻²⁴ apart in a 24-bit depth and
+    /// in a 32-bit float one alike. At this ratio the farthest point still lies two steps in
+    /// front of infinity, where depth is cleared and shadow volumes' back caps are drawn; below
+    /// 2⁻²⁵ it would round onto them. Open worlds are accepted: a near plane of 0.1 with
+    /// geometry 141 km away is 7e-7 (hard case 32). Between this bound and
+    /// [`Camera::EXACT_NEAR_RATIO`] the frame report gives every shadow-volume light the depth
+    /// step at the farthest point (`ShadowVolumeReport::depth_precision`).
+    pub const MIN_NEAR_RATIO: f32 = 1.0 / 8_388_608.0;
+
+    /// The smallest `near`, as a fraction of the distance to the scene's farthest point, at
+    /// which the conformance suite measured shadow volumes and the hybrid exact: hard case 07
+    /// (geometry at 1e5–1e6 units, near = 100) sits at 1.05e-4 on both CPU drivers. Below it
+    /// the depth step at the farthest point exceeds 2⁻²⁴ / 1e-4 ≈ 0.06 % of its distance, and
+    /// the frame report says so per light. [`crate::Scene::fit_near_plane`] raises an
+    /// interactive camera's near plane to it.
+    pub const EXACT_NEAR_RATIO: f32 = 1e-4;
 
     /// Checks the camera for a scene whose farthest point is `reach` from the eye: finite
     /// vectors, `position ≠ target`, an `up` that is not zero or along the view direction,
-    /// `0 < fov_y_deg < 180`, `near ≥ MIN_NEAR_RATIO × reach` (depth precision: below it
-    /// z-fail shadow volumes are no longer exact) and `far > near`. The `Err` names the field.
+    /// `0 < fov_y_deg < 180`, `near ≥ MIN_NEAR_RATIO × reach` (depth precision: below it the
+    /// farthest point's depth cannot be told from infinity's) and `far > near`. The `Err` names
+    /// the field.
     pub fn validate(&self, reach: f32) -> Result<(), String> {
         if !(self.position.is_finite() && self.target.is_finite() && self.up.is_finite()) {
             return Err("position, target and up must be finite".into());
@@ -70,7 +84,7 @@ impl Camera {
         let min_near = Self::MIN_NEAR_RATIO * reach;
         if !(self.near.is_finite() && self.near > 0.0 && self.near >= min_near) {
             return Err(format!(
-                "near {:e} must be finite and ≥ {min_near:e} ({:e} of the distance {reach:e} to the scene's farthest point: depth precision)",
+                "near {:e} must be finite and ≥ {min_near:e} (2^-23 = {:e} of the distance {reach:e} to the scene's farthest point: depth precision)",
                 self.near,
                 Self::MIN_NEAR_RATIO
             ));

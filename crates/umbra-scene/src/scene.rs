@@ -105,11 +105,11 @@ impl Scene {
         }
     }
 
-    /// Raises the camera's `near` to the smallest [`Camera::validate`] accepts for this scene
-    /// (never lowers it): for interactive cameras that zoom out past their near plane's
-    /// precision.
+    /// Raises the camera's `near` to the smallest at which shadow volumes are measured exact
+    /// for this scene ([`Camera::EXACT_NEAR_RATIO`] of its reach; never lowers it): for
+    /// interactive cameras that zoom out past their near plane's precision.
     pub fn fit_near_plane(&mut self) {
-        let least = Camera::MIN_NEAR_RATIO * self.camera_reach();
+        let least = Camera::EXACT_NEAR_RATIO * self.camera_reach();
         if self.camera.near < least {
             self.camera.near = least * 1.001;
             if let Some(far) = self.camera.far.as_mut() {

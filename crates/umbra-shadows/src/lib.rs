@@ -46,8 +46,8 @@ pub use error::{RenderError, RenderResult};
 pub use frame::PassId;
 pub use hybrid::{HybridSettings, MaskKind};
 pub use plan::{
-    CasterMode, CullReason, Culled, FramePlan, HybridReport, HybridRtReport, LightPlan, RayTracedReport,
-    ShadowMapReport, ShadowVolumeReport, SilhouetteMapReport,
+    CasterMode, CullReason, Culled, DepthPrecision, FramePlan, HybridReport, HybridRtReport, LightPlan,
+    RayTracedReport, ShadowMapReport, ShadowVolumeReport, SilhouetteMapReport,
 };
 pub use ray_traced::TraversalReport;
 pub use renderer::{Frame, Renderer, RendererDesc, COLOR_FORMAT};

@@ -340,6 +340,37 @@ pub struct ShadowVolumeReport {
     /// `count_batches` is planned on the host from bounds on every named caster.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub gpu_built: bool,
+    /// The camera's depth step at the scene's farthest point, where the near plane is closer
+    /// than [`umbra_scene::Camera::EXACT_NEAR_RATIO`] of that distance: volume faces and surfaces
+    /// nearer each other in depth than `step` may count on the wrong side of each other there.
+    /// `None` (and left out of the JSON) where the depth is as fine as where shadow volumes are
+    /// measured exact.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth_precision: Option<DepthPrecision>,
+}
+
+/// How coarse the camera's depth is at the scene's farthest point
+/// ([`ShadowVolumeReport::depth_precision`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct DepthPrecision {
+    /// Distance from the eye to the farthest point of any object's bounds.
+    pub distance: f32,
+    /// World distance between two adjacent depth values there.
+    pub step: f32,
+}
+
+impl DepthPrecision {
+    /// A one-line warning for light `light`'s shadow volumes.
+    pub fn warning(&self, light: usize) -> String {
+        format!(
+            "warning: light {light}: the camera's depth resolves {:.3e} world units ({:.2} % of the distance) at the scene's farthest point, {:.3e} away; shadow volumes are measured exact to {:.2} % (near plane {:e} of the distance): volume faces and surfaces nearer each other than that may count on the wrong side",
+            self.step,
+            100.0 * self.step / self.distance,
+            self.distance,
+            100.0 / (umbra_scene::Camera::EXACT_NEAR_RATIO * 16_777_216.0),
+            umbra_scene::Camera::EXACT_NEAR_RATIO,
+        )
+    }
 }
 
 /// The counting mode one caster used.

@@ -55,6 +55,28 @@ impl View {
             height_per_depth: if proj.y_axis.y != 0.0 { 2.0 / proj.y_axis.y.abs() } else { 0.0 },
         }
     }
+
+    /// The world distance between two adjacent depth values at `distance` from the eye along
+    /// the view: depth `−a + b / d` (`z_clip = a·z + b`, `w = −z`) changes by `|b| / d²` per unit
+    /// there, and its values just below 1 are 2⁻²⁴ apart in a 24-bit depth and a 32-bit float
+    /// one alike.
+    pub fn depth_step_at(&self, distance: f32) -> f32 {
+        let b = f64::from(self.proj.w_axis.z).abs();
+        let d = f64::from(distance);
+        if b == 0.0 {
+            return f32::INFINITY;
+        }
+        (d * d / b / f64::from(1u32 << 24)) as f32
+    }
+
+    /// The camera's depth precision at `distance` (the scene's farthest point) where it is
+    /// coarser than at [`umbra_scene::Camera::EXACT_NEAR_RATIO`], the ratio at which shadow
+    /// volumes are measured exact; `None` where it is as fine.
+    pub fn depth_precision(&self, distance: f32) -> Option<crate::plan::DepthPrecision> {
+        let step = self.depth_step_at(distance);
+        let exact = distance / (umbra_scene::Camera::EXACT_NEAR_RATIO * f64::from(1u32 << 24) as f32);
+        (distance > 0.0 && step > exact).then_some(crate::plan::DepthPrecision { distance, step })
+    }
 }
 
 #[cfg(test)]
@@ -74,5 +96,26 @@ mod tests {
             assert!((own.near - given.near).abs() < 1e-6 * own.near.max(1.0), "{} {}", own.near, given.near);
             assert!((own.height_per_depth - given.height_per_depth).abs() < 1e-6);
         }
+    }
+
+    #[test]
+    fn depth_precision_is_reported_below_the_exact_near_ratio() {
+        let mut camera = Camera::look_at(Vec3::ZERO, -Vec3::Z);
+        camera.far = None;
+        camera.near = 0.1;
+        let view = View::of_camera(&camera, 1.5);
+        // P_inf: depth 1 − near/d, so the step at d is 2⁻²⁴ d² / near.
+        let d = 44_000.0;
+        let step = view.depth_step_at(d);
+        assert!((step / (d * d / 0.1 / 16_777_216.0) - 1.0).abs() < 1e-5, "{step}");
+        // The step between two f32 depths just below 1, measured: d at 1 − 2⁻²⁴·k is near / (2⁻²⁴·k).
+        let at = |k: f32| 0.1 / (k / 16_777_216.0);
+        assert!(((at(2.0) - at(3.0)) / view.depth_step_at(at(2.5)) - 1.0).abs() < 0.05);
+        let p = view.depth_precision(d).expect("0.1 at 44 km is coarser than measured exact");
+        assert_eq!((p.distance, p.step), (d, step));
+        // Exactly at the measured-exact ratio and above it: nothing to report.
+        let exact = 0.1 / umbra_scene::Camera::EXACT_NEAR_RATIO;
+        assert!(view.depth_precision(exact * 0.999).is_none());
+        assert!(view.depth_precision(exact * 1.01).is_some());
     }
 }

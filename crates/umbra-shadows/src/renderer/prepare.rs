@@ -215,6 +215,8 @@ impl Renderer {
         let mut vertices = Vec::new();
         let mut jobs = Vec::new();
         let mut next = (0u32, 0u32);
+        let depth_precision =
+            lights.iter().any(|l| needs(l.plan.technique).volumes.is_some()).then(|| view.depth_precision()).flatten();
         for light in lights.iter_mut() {
             let plan = &light.plan;
             let shadowed = plan.recorded && plan.shadowed;
@@ -232,7 +234,7 @@ impl Renderer {
                 let v = volumes::jobs_for_light(
                     scene, casters, adjacency, ranges, boxes, source, &view.view, mode, &mut jobs, &mut next,
                 );
-                light.volumes = Some(v);
+                light.volumes = Some(volumes::LightVolumes { depth_precision, ..v });
                 continue;
             }
             let v = volumes::build_light(
@@ -245,7 +247,7 @@ impl Renderer {
                 mode,
                 &mut vertices,
             );
-            light.volumes = Some(v);
+            light.volumes = Some(volumes::LightVolumes { depth_precision, ..v });
         }
         if let (Some(g), false) = (self.gpu_volumes.as_mut(), jobs.is_empty()) {
             streams.volume_draws.fill(&self.ctx, &crate::shadow_volume::gpu::draw_resets(&jobs))?;

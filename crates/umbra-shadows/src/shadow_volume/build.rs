@@ -56,6 +56,9 @@ pub(crate) struct LightVolumes {
     pub batches: Vec<std::ops::Range<usize>>,
     /// Built on the GPU (`gpu_frame.rs`): the frame's index of its first job, and its jobs.
     pub gpu: Option<(usize, Vec<super::gpu::VolumeJob>)>,
+    /// The camera's depth precision where it is coarser than measured exact
+    /// (`View::depth_precision`), for the report.
+    pub depth_precision: Option<crate::plan::DepthPrecision>,
 }
 
 impl LightVolumes {
@@ -120,6 +123,7 @@ impl LightVolumes {
                 })
                 .collect(),
             gpu_built: self.gpu.is_some(),
+            depth_precision: self.depth_precision,
         }
     }
 }
@@ -183,7 +187,14 @@ pub(crate) fn build_light(
         vertices.extend(verts);
     }
     let batches = std::iter::once(0..casters.len()).collect();
-    LightVolumes { casters, cpu_ms: started.elapsed().as_secs_f64() * 1e3, host_clipped: false, batches, gpu: None }
+    LightVolumes {
+        casters,
+        cpu_ms: started.elapsed().as_secs_f64() * 1e3,
+        host_clipped: false,
+        batches,
+        gpu: None,
+        depth_precision: None,
+    }
 }
 
 /// Names the volumes of `light` for the objects `casters` as jobs of the GPU path (`gpu.rs`),
@@ -256,7 +267,14 @@ pub(crate) fn jobs_for_light(
     let batches = std::iter::once(0..out.len()).collect();
     // No job, nothing to build: the light is drawn as one with no volumes.
     let gpu = (jobs.len() > first).then(|| (first, jobs[first..].to_vec()));
-    LightVolumes { casters: out, cpu_ms: started.elapsed().as_secs_f64() * 1e3, host_clipped: false, batches, gpu }
+    LightVolumes {
+        casters: out,
+        cpu_ms: started.elapsed().as_secs_f64() * 1e3,
+        host_clipped: false,
+        batches,
+        gpu,
+        depth_precision: None,
+    }
 }
 
 /// The near-plane clip region of §3.4: the convex hull of the camera's near rectangle and the
