@@ -559,6 +559,12 @@ impl<'a> Recorder<'a> {
         unsafe { self.device().cmd_set_depth_bias(self.cmd, constant, clamp, slope) };
     }
 
+    /// Sets the depth comparison (pipelines with `DepthState::compare_dynamic`).
+    pub fn set_depth_compare_op(&mut self, op: vk::CompareOp) {
+        // SAFETY: dynamic state of the bound pipeline (core in Vulkan 1.3, which umbra-vk requires).
+        unsafe { self.device().cmd_set_depth_compare_op(self.cmd, op) };
+    }
+
     /// Sets the depth-bounds range (pipelines with `DepthState::bounds_test`).
     pub fn set_depth_bounds(&mut self, min: f32, max: f32) {
         // SAFETY: dynamic state of the bound pipeline; the feature was checked at its creation.

@@ -3,7 +3,7 @@
 //! [`GraphicsPipelineDesc`] names every piece of fixed-function state explicitly: separate
 //! front/back stencil ops with compare and write masks (two-sided stencil, wrap ops), depth
 //! bounds, depth clamp, depth bias, depth compare op, colour write masks and blending.
-//! Dynamic state: viewport and scissor always; depth bias, depth bounds and stencil reference
+//! Dynamic state: viewport and scissor always; depth bias, depth compare op, depth bounds and stencil reference
 //! when the description enables them.
 
 use crate::error::{CallContext, VkError, VkResult};
@@ -78,6 +78,9 @@ pub struct DepthState {
     pub clamp: bool,
     /// Depth bias enabled (values set with `Recorder::set_depth_bias`).
     pub bias: bool,
+    /// The comparison is dynamic state, set with `Recorder::set_depth_compare_op` before each
+    /// draw (core in Vulkan 1.3); `compare` is then unused.
+    pub compare_dynamic: bool,
 }
 
 impl DepthState {
@@ -89,6 +92,7 @@ impl DepthState {
         bounds_test: false,
         clamp: false,
         bias: false,
+        compare_dynamic: false,
     };
     /// No depth test or write.
     pub const NONE: Self = Self {
@@ -98,6 +102,7 @@ impl DepthState {
         bounds_test: false,
         clamp: false,
         bias: false,
+        compare_dynamic: false,
     };
 }
 
@@ -377,6 +382,9 @@ impl GraphicsPipeline {
         let mut dynamic = vec![vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
         if d.bias {
             dynamic.push(vk::DynamicState::DEPTH_BIAS);
+        }
+        if d.compare_dynamic {
+            dynamic.push(vk::DynamicState::DEPTH_COMPARE_OP);
         }
         if d.bounds_test {
             dynamic.push(vk::DynamicState::DEPTH_BOUNDS);

@@ -25,7 +25,7 @@ pub(crate) struct CasterVolume {
     pub first: u32,
     pub count: u32,
     /// The last `cut_caps` of the `count` vertices are front-cap triangles cut on the host
-    /// (`clip.rs`), drawn with [`super::pass::CUT_CAP_BIAS`]; 0 unless host-clipped.
+    /// (`clip.rs`), drawn with [`super::pass::CUT_CAP_COMPARE`]; 0 unless host-clipped.
     pub cut_caps: u32,
     /// The most this volume can add to a pixel's count: 1 for a convex solid
     /// (`Adjacency::convex`), else its cap triangles (each adds at most 1).

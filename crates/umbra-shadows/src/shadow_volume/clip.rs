@@ -22,8 +22,9 @@
 //! wrong behind whatever hides the floor. Cut, its interpolated depth is no longer the
 //! caster's own, which z-fail needs where the caster is the visible surface (the cap must
 //! fail LESS there), so the cut caps go last in the caster's range (`CasterVolume::cut_caps`)
-//! and are drawn pushed back by a depth bias ([`super::pass::CUT_CAP_BIAS`]). Caps inside the
-//! view keep their vertices, bit-identical to the caster's, and no bias.
+//! and are drawn with no depth test, each fragment counted as behind
+//! ([`super::pass::CUT_CAP_COMPARE`]: nothing visible lies behind a cap on its caster). Caps
+//! inside the view keep their vertices, bit-identical to the caster's, and test `LESS`.
 
 use super::build::CasterVolume;
 use glam::{DMat4, DVec4, Mat4, Vec4};

@@ -57,17 +57,16 @@ impl VolumeInput {
     }
 }
 
-/// Depth bias of front caps cut on the host (`clip.rs`): `(constant, slope)` factors. Cut,
-/// a cap interpolates its caster's plane from other vertices than the caster's own draw (whose
-/// triangles the driver clips for itself, often against the near plane with vertices far off
-/// screen), and both snap to the subpixel grid (1/16 px on SwiftShader), so their depths differ
-/// by a fraction of the depth change across one pixel: hard case 31 (a floor seen near the
-/// frame's bottom-left corner) measured up to 0.4 of it, where a bias of 0.25 left a 1 265-pixel
-/// false-shadow wedge. Pushed back by one pixel's depth change (2.5 times the largest drift
-/// measured) and 8 units of the format's resolution, the cap still fails LESS where its caster
-/// is the visible surface; for a closed caster it then lies inside the caster, where no visible
-/// surface is. Uncut triangles are drawn with no bias (both factors 0: depth exact).
-pub(crate) const CUT_CAP_BIAS: (f32, f32) = (8.0, 1.0);
+/// The depth comparison of front caps cut on the host (`clip.rs`): `NEVER`, so each of their
+/// fragments counts as behind the visible surface. A front cap lies on its caster, which the
+/// frame's depth holds, so nothing visible is ever behind it: the nearest surface at a cap's
+/// pixel is the caster there or something in front of it. Uncut caps find that out exactly
+/// (`LESS` against the caster's own depth, from the same vertices); cut caps no longer share
+/// the caster's vertices, and their depth drifted from the caster's by more than two pixels'
+/// depth change where the driver clipped the caster itself far off screen (hard case 31: a
+/// bias of a quarter pixel's slope left a false-shadow wedge of 1 265 pixels, one pixel's 833
+/// at another eye). Counted without a depth test they need no bias, whatever the drift.
+pub(crate) const CUT_CAP_COMPARE: vk::CompareOp = vk::CompareOp::NEVER;
 
 /// Stencil ops of one face: `op` on `when` (pass or depth-fail), KEEP otherwise.
 fn face(op: vk::StencilOp, on_depth_fail: bool) -> StencilFace {
@@ -106,9 +105,10 @@ pub(crate) fn zfail_desc(depth_format: vk::Format, clamp: bool, input: VolumeInp
     desc.depth_format = depth_format;
     // Test against the scene's depth, never write it; LESS, so a front cap lying on its
     // caster's surface fails the test and counts as behind it (z-fail). Host-clipped volumes
-    // set a dynamic depth bias: none for most triangles, CUT_CAP_BIAS for cut front caps.
-    let bias = input == VolumeInput::HostClipped;
-    desc.depth = DepthState { test: true, write: false, compare: vk::CompareOp::LESS, clamp, bias, ..DepthState::NONE };
+    // set the comparison per draw: LESS for most triangles, CUT_CAP_COMPARE for cut front caps.
+    let compare_dynamic = input == VolumeInput::HostClipped;
+    let compare = vk::CompareOp::LESS;
+    desc.depth = DepthState { test: true, write: false, compare, clamp, compare_dynamic, ..DepthState::NONE };
     // Two-sided stencil in one draw: z-fail decrements on front faces and increments on
     // back faces where the depth test fails; *_AND_WRAP because counts interleave.
     desc.stencil = Some((face(vk::StencilOp::DECREMENT_AND_WRAP, true), face(vk::StencilOp::INCREMENT_AND_WRAP, true)));
@@ -131,8 +131,8 @@ impl<'a> VolumeBindings<'a> {
     }
 
     /// The counting draws (z-fail or z-pass, bound), one per caster: its range without the
-    /// cut front caps, then (when `volumes` were host-clipped) every caster's cut caps with
-    /// [`CUT_CAP_BIAS`].
+    /// cut front caps, tested `LESS`, then (when `volumes` were host-clipped) every caster's
+    /// cut caps, compared with [`CUT_CAP_COMPARE`].
     pub fn draw_counting<'c>(
         &self,
         rec: &mut Recorder<'a>,
@@ -142,7 +142,7 @@ impl<'a> VolumeBindings<'a> {
         log: &mut PassLog,
     ) {
         if host_clipped {
-            rec.set_depth_bias(0.0, 0.0, 0.0);
+            rec.set_depth_compare_op(vk::CompareOp::LESS);
         }
         let ranges = |cut: bool| {
             casters.clone().map(move |c| match cut {
@@ -152,7 +152,7 @@ impl<'a> VolumeBindings<'a> {
         };
         self.draw_ranges(rec, ranges(false), light, log);
         if casters.clone().any(|c| c.cut_caps > 0) {
-            rec.set_depth_bias(CUT_CAP_BIAS.0, 0.0, CUT_CAP_BIAS.1);
+            rec.set_depth_compare_op(CUT_CAP_COMPARE);
             self.draw_ranges(rec, ranges(true), light, log);
         }
     }
