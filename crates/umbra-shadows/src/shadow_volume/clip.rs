@@ -6,16 +6,17 @@
 //! driver nothing to clip, and the same volumes count exactly on both drivers.
 //!
 //! Every volume triangle is clipped in f64 against z ≥ 0 and |x|, |y| ≤ [`INSIDE`]·w
-//! (Sutherland–Hodgman). A cut point on an original edge is computed from that edge's two
-//! endpoints alone, in one order, so the two triangles sharing the edge emit the same vertex;
-//! like the points where two clip planes meet, it is sent in clip space, rounded from f64
-//! once: within 10⁻⁷ of the view's edge, inside the 10⁻⁴ margin where no pixel centre is.
-//! (Placed on the GPU between its edge's f32 endpoints instead, a cut point far from both
-//! moves by the endpoints' rounding: at 10⁵ units, by more than the margin, and a volume
-//! piece left a column of pixels at the frame's border to its partner alone; hard case 32.)
-//! The vertices a triangle keeps are sent as volume vertices, which the vertex shader
-//! (`shadow_volume/extrude_clipped.vert`) places exactly as `extrude.vert` does, so a front
-//! cap's stay bit-identical to its caster's own.
+//! (Sutherland–Hodgman). A cut point on an original edge is expressed from that edge's two
+//! endpoints alone, in one order, so the two triangles sharing the edge emit the same vertex:
+//! as the edge and a parameter, which the vertex shader (`shadow_volume/extrude_clipped.vert`)
+//! turns into the point between the endpoints it transforms exactly as `extrude.vert` does, so
+//! the point lies on the edge the unclipped path rasterizes and the vertices a triangle keeps
+//! (the front cap's, on its caster) stay bit-identical to the caster's own. Where the
+//! endpoints' f32 rounding could move the point by a quarter of the 10⁻⁴ w margin left to the
+//! view's edge ([`gpu_placement_is_exact_enough`]: endpoints 10⁵ units away, hard case 32,
+//! where a column of pixels at the frame's border was left to one volume piece), the point is
+//! sent in clip space instead, rounded from f64 once, as the points where two clip planes
+//! meet always are: those lie on the boundary of the clipped region, where no pixel centre is.
 
 //! A front cap that leaves the view is cut too: left to the driver, two cap triangles sharing
 //! an edge (a floor's two top triangles) leave pixels along it to neither or both, counted
@@ -37,7 +38,8 @@ use umbra_vk::{vk, VertexAttribute};
 pub(crate) const INSIDE: f64 = 0.9999;
 
 /// One vertex of a host-clipped volume: `t = 0`, the volume vertex `a` (object space, w = 0 at
-/// infinity); `t < 0`, `b` is a clip-space position (a cut point).
+/// infinity); `0 < t < 1`, the point `a + t (b − a)` of the edge between volume vertices `a` and
+/// `b`, in clip space; `t < 0`, `b` is a clip-space position.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub(crate) struct ClippedVertex {
@@ -177,6 +179,9 @@ fn clip_triangle(
     }
     let vertex = |p: Point| match p {
         Point::Vertex(k) => ClippedVertex { a: v[k].to_array(), b: [0.0; 4], t: 0.0 },
+        Point::Edge { i, j, t } if gpu_placement_is_exact_enough(clip[i], clip[j], position(p)) => {
+            ClippedVertex { a: v[i].to_array(), b: v[j].to_array(), t: t as f32 }
+        }
         Point::Edge { .. } | Point::Corner(_) => {
             ClippedVertex { a: [0.0; 4], b: position(p).as_vec4().to_array(), t: -1.0 }
         }
@@ -184,6 +189,15 @@ fn clip_triangle(
     for k in 1..poly.len() - 1 {
         out.extend([vertex(poly[0]), vertex(poly[k]), vertex(poly[k + 1])]);
     }
+}
+
+/// Whether the cut point `p` of the edge between clip positions `a` and `b`, placed by the
+/// vertex shader from the endpoints it transforms in f32, stays within a quarter of the margin
+/// [`INSIDE`] leaves to the view's edge: the endpoints' rounding and the interpolation's move it
+/// by a few units in the last place of the larger endpoint (bounded here by 2⁻²⁰ of it).
+fn gpu_placement_is_exact_enough(a: DVec4, b: DVec4, p: DVec4) -> bool {
+    let rounding = a.abs().max(b.abs()).max_element() * f64::powi(2.0, -20);
+    rounding < 0.25 * (1.0 - INSIDE) * p.w.abs()
 }
 
 #[cfg(test)]
@@ -203,8 +217,10 @@ mod tests {
         let at = |p: [f32; 4]| clip[p[0] as usize].as_dvec4();
         if v.t < 0.0 {
             Vec4::from_array(v.b).as_dvec4()
-        } else {
+        } else if v.t == 0.0 {
             at(v.a)
+        } else {
+            at(v.a) + (at(v.b) - at(v.a)) * f64::from(v.t)
         }
     }
 
@@ -246,21 +262,21 @@ mod tests {
         let v = [Vec4::new(1.0, 0.0, 0.0, 0.0), Vec4::new(0.0, 0.0, 0.0, 0.0), Vec4::new(2.0, 0.0, 0.0, 0.0)];
         let clip_two = [a, b, d];
         clip_triangle(v, |p| clip_two[p.x as usize].as_dvec4(), &mut two, &mut Vec::new());
-        // Cut points are sent in clip space; the one on the shared edge is in both, bit for bit.
-        let cut = |vs: &[ClippedVertex]| -> Vec<ClippedVertex> { vs.iter().filter(|v| v.t < 0.0).copied().collect() };
-        let (e1, e2) = (cut(&one), cut(&two));
-        let shared: Vec<_> = e1.iter().filter(|v| e2.contains(v)).collect();
-        assert_eq!(shared.len(), 1, "one cut point on the shared edge: {e1:?} {e2:?}");
-        let p = placed(shared[0], &clip_one);
+        // Endpoints near the view: the cut point is sent as the edge and a parameter, the same
+        // from either triangle.
+        let on_edge = |vs: &[ClippedVertex]| -> Vec<ClippedVertex> {
+            vs.iter().filter(|v| v.t > 0.0 && v.a[0] < 2.0 && v.b[0] < 2.0).copied().collect()
+        };
+        let (e1, e2) = (on_edge(&one), on_edge(&two));
+        assert!(!e1.is_empty() && !e2.is_empty());
+        assert_eq!(e1[0], e2[0], "the same cut point, expressed the same way");
+        let p = placed(&e1[0], &clip_one);
         assert!((p.x - INSIDE * p.w).abs() < 1e-6, "{p}");
-        // On the edge between a and b.
-        let (a, b) = (a.as_dvec4(), b.as_dvec4());
-        let s = (p.x - a.x) / (b.x - a.x);
-        assert!((a + (b - a) * s - p).abs().max_element() < 1e-6, "{p} not on the edge");
     }
 
-    /// Far from its edge's endpoints (10⁶ clip units away) a cut point still lies on the clip
-    /// plane to f32 precision: within the margin `INSIDE` leaves to the view's edge.
+    /// Far from its edge's endpoints (10⁶ clip units away) a cut point is sent in clip space and
+    /// lies on the clip plane to f32 precision: within the margin `INSIDE` leaves to the view's
+    /// edge, which the endpoints' rounding on the GPU would exceed.
     #[test]
     fn cut_points_far_from_their_endpoints_stay_inside_the_margin() {
         // An edge from a point 1e6 to the left of the view to one just inside it.
@@ -270,6 +286,7 @@ mod tests {
         let mut out = Vec::new();
         clip_at([a, b, c], &mut out);
         let clip = [a, b, c];
+        assert!(out.iter().all(|v| v.t <= 0.0), "a cut point left to the GPU: {out:?}");
         let cut: Vec<_> = out.iter().filter(|v| v.t < 0.0).collect();
         assert!(!cut.is_empty());
         for v in cut {
