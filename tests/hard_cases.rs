@@ -280,7 +280,8 @@ fn the_report_gives_the_depth_step_where_it_is_coarser_than_measured_exact() {
                     let volumes = l.shadow_volume.as_ref().expect("a volume report");
                     match (volumes.depth_precision, warned) {
                         (Some(p), true) => {
-                            let expected = p.distance * p.distance / scene.camera.near / 16_777_216.0;
+                            let expected =
+                                p.distance * p.distance / scene.camera.near * umbra::scene::Camera::DEPTH_STEP;
                             assert!((p.step / expected - 1.0).abs() < 1e-3, "{p:?}");
                             assert!(p.distance > 1.4e5 && p.step > 1e4, "{p:?}");
                             let warning = p.warning(l.light);

@@ -52,7 +52,11 @@ impl Camera {
     /// geometry 141 km away is 7e-7 (hard case 32). Between this bound and
     /// [`Camera::EXACT_NEAR_RATIO`] the frame report gives every shadow-volume light the depth
     /// step at the farthest point (`ShadowVolumeReport::depth_precision`).
-    pub const MIN_NEAR_RATIO: f32 = 1.0 / 8_388_608.0;
+    pub const MIN_NEAR_RATIO: f32 = 2.0 * Self::DEPTH_STEP;
+
+    /// The step between adjacent depth values just below 1 (where distant points lie): 2⁻²⁴,
+    /// in a 24-bit depth and in a 32-bit float one alike.
+    pub const DEPTH_STEP: f32 = 1.0 / 16_777_216.0;
 
     /// The smallest `near`, as a fraction of the distance to the scene's farthest point, at
     /// which the conformance suite measured shadow volumes and the hybrid exact: hard case 07

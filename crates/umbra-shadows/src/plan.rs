@@ -360,6 +360,11 @@ pub struct DepthPrecision {
 }
 
 impl DepthPrecision {
+    /// The depth step, as a fraction of the distance, at which shadow volumes are measured
+    /// exact: that of a near plane at [`umbra_scene::Camera::EXACT_NEAR_RATIO`] of the distance
+    /// (about 0.06 %). Coarser steps are reported.
+    pub const EXACT_RELATIVE_STEP: f32 = umbra_scene::Camera::DEPTH_STEP / umbra_scene::Camera::EXACT_NEAR_RATIO;
+
     /// A one-line warning for light `light`'s shadow volumes.
     pub fn warning(&self, light: usize) -> String {
         format!(
@@ -367,7 +372,7 @@ impl DepthPrecision {
             self.step,
             100.0 * self.step / self.distance,
             self.distance,
-            100.0 / (umbra_scene::Camera::EXACT_NEAR_RATIO * 16_777_216.0),
+            100.0 * Self::EXACT_RELATIVE_STEP,
             umbra_scene::Camera::EXACT_NEAR_RATIO,
         )
     }

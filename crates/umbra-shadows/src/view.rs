@@ -58,15 +58,14 @@ impl View {
 
     /// The world distance between two adjacent depth values at `distance` from the eye along
     /// the view: depth `−a + b / d` (`z_clip = a·z + b`, `w = −z`) changes by `|b| / d²` per unit
-    /// there, and its values just below 1 are 2⁻²⁴ apart in a 24-bit depth and a 32-bit float
-    /// one alike.
+    /// there, and its values just below 1 are [`Camera::DEPTH_STEP`] apart.
     pub fn depth_step_at(&self, distance: f32) -> f32 {
         let b = f64::from(self.proj.w_axis.z).abs();
         let d = f64::from(distance);
         if b == 0.0 {
             return f32::INFINITY;
         }
-        (d * d / b / f64::from(1u32 << 24)) as f32
+        (d * d / b * f64::from(Camera::DEPTH_STEP)) as f32
     }
 
     /// The camera's depth precision at `distance` (the scene's farthest point) where it is
@@ -74,7 +73,7 @@ impl View {
     /// volumes are measured exact; `None` where it is as fine.
     pub fn depth_precision(&self, distance: f32) -> Option<crate::plan::DepthPrecision> {
         let step = self.depth_step_at(distance);
-        let exact = distance / (umbra_scene::Camera::EXACT_NEAR_RATIO * f64::from(1u32 << 24) as f32);
+        let exact = distance * crate::plan::DepthPrecision::EXACT_RELATIVE_STEP;
         (distance > 0.0 && step > exact).then_some(crate::plan::DepthPrecision { distance, step })
     }
 }
@@ -107,9 +106,9 @@ mod tests {
         // P_inf: depth 1 − near/d, so the step at d is 2⁻²⁴ d² / near.
         let d = 44_000.0;
         let step = view.depth_step_at(d);
-        assert!((step / (d * d / 0.1 / 16_777_216.0) - 1.0).abs() < 1e-5, "{step}");
+        assert!((step / (d * d / 0.1 * Camera::DEPTH_STEP) - 1.0).abs() < 1e-5, "{step}");
         // The step between two f32 depths just below 1, measured: d at 1 − 2⁻²⁴·k is near / (2⁻²⁴·k).
-        let at = |k: f32| 0.1 / (k / 16_777_216.0);
+        let at = |k: f32| 0.1 / (k * Camera::DEPTH_STEP);
         assert!(((at(2.0) - at(3.0)) / view.depth_step_at(at(2.5)) - 1.0).abs() < 0.05);
         let p = view.depth_precision(d).expect("0.1 at 44 km is coarser than measured exact");
         assert_eq!((p.distance, p.step), (d, step));
