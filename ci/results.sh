@@ -1,13 +1,17 @@
 #!/usr/bin/env bash
-# Regenerates the measurements behind docs/results.md: the umbra-bench sweep on lavapipe and on
-# SwiftShader (and on any other device named in UMBRA_RESULTS_DEVICES, e.g. a GPU's name whose
-# ICD file UMBRA_EXTRA_ICDS adds), each
-# into docs/results/<device>/ (summary.md, results.csv, results.json) with its plots copied to
-# docs/images/results/<device>/. The reading in docs/results.md is written from these.
-# Installs what it needs first (ci/setup.sh). Builds the dev profile, as the tests do (umbra at
-# opt-level 1, its dependencies at 2): the GPU times are the driver's whatever umbra's profile,
-# and a release build would add about 15 minutes on 2 cores; the host-side columns (CPU
-# silhouette ms, BVH build ms) are the dev profile's.
+# Regenerates the measurements behind docs/results.md and the README's poster, on the three CPU
+# drivers of ci/drivers.sh (Mesa 25's lavapipe first, then Debian 12's Mesa 22 lavapipe and
+# SwiftShader; UMBRA_RESULTS_DEVICES names others, e.g. a GPU whose ICD file UMBRA_EXTRA_ICDS
+# adds). Per device, one after the other on one machine:
+#   - the poster (`umbra-bench poster` with the demo's defaults: cage, its point lights, 512×384)
+#     into docs/results/<device>/; the first device's is also docs/images/poster.png, the README's picture
+#   - the umbra-bench sweep into docs/results/<device>/ (summary.md, results.csv, results.json)
+#     with its plots in docs/images/results/<device>/
+# The reading in docs/results.md is written from these. Installs what it needs first
+# (ci/setup.sh). Builds the dev profile, as the tests do (umbra at opt-level 1, its dependencies
+# at 2): the GPU times are the driver's whatever umbra's profile, and a release build would add
+# about 15 minutes on 2 cores; the host-side columns (CPU silhouette ms, BVH build ms) are the
+# dev profile's.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -16,6 +20,7 @@ source ci/drivers.sh
 export VK_ICD_FILENAMES="$VK_ICD_FILENAMES${UMBRA_EXTRA_ICDS:+:$UMBRA_EXTRA_ICDS}"
 export VK_DRIVER_FILES="$VK_ICD_FILENAMES"
 cargo build --locked -p umbra-bench
+bench="$CARGO_TARGET_DIR/debug/umbra-bench"
 
 # SwiftShader runs about six times slower than lavapipe here: it gets a smaller sweep.
 sweep_args() {
@@ -25,15 +30,26 @@ sweep_args() {
     esac
 }
 
-for device in ${UMBRA_RESULTS_DEVICES:-llvmpipe swiftshader}; do
+first=""
+for device in ${UMBRA_RESULTS_DEVICES:-$UMBRA_DRIVERS}; do
     out="target/results/$device"
     rm -rf "$out"
+    started=$(date +%s)
+    UMBRA_DEVICE=$device "$bench" poster --out "$out/poster"
     # shellcheck disable=SC2046
-    UMBRA_DEVICE=$device "$CARGO_TARGET_DIR/debug/umbra-bench" sweep $(sweep_args "$device") \
+    UMBRA_DEVICE=$device "$bench" sweep $(sweep_args "$device") \
         --techniques sm,silmap,sv,hybrid,rt,hybrid-rt --size 512x384 --spot-lights --quiet --out "$out"
+    echo "results: $device took $(( $(date +%s) - started )) s"
+    rm -rf "docs/results/$device" "docs/images/results/$device"
     mkdir -p "docs/results/$device" "docs/images/results/$device"
-    cp "$out/summary.md" "$out/results.csv" "$out/results.json" "docs/results/$device/"
+    cp "$out/summary.md" "$out/results.csv" "$out/results.json" "$out/poster/poster.png" "$out/poster/poster.json" \
+        "docs/results/$device/"
     cp "$out"/*.png "docs/images/results/$device/"
     # The summary sits one folder away from its plots.
     sed -i "s|!\\[\\(.*\\)\\](\\(.*\\.png\\))|![\\1](../../images/results/$device/\\2)|" "docs/results/$device/summary.md"
+    if [ -z "$first" ]; then
+        first=$device
+        cp "$out/poster/poster.png" docs/images/poster.png
+    fi
 done
+echo "results: docs/images/poster.png is $first's"

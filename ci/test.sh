@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Runs umbra's whole test suite twice: on lavapipe (UMBRA_DEVICE=llvmpipe) and on SwiftShader
-# (UMBRA_DEVICE=swiftshader), with the Khronos validation layer on. Fails if either run fails.
-# Installs what it needs first (ci/setup.sh; idempotent, needs root the first time).
+# Runs umbra's whole test suite on three Vulkan drivers, with the Khronos validation layer on:
+# Mesa 25's lavapipe (UMBRA_DEVICE=llvmpipe-mesa-25), Debian 12's Mesa 22 lavapipe
+# (llvmpipe-mesa-22) and SwiftShader (swiftshader). Fails if any run fails. Installs what it
+# needs first (ci/setup.sh; idempotent, needs root the first time).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -31,7 +32,7 @@ echo "== build"
 cargo build --workspace --all-targets --locked
 
 failed=()
-for device in llvmpipe swiftshader; do
+for device in $UMBRA_DRIVERS; do
     echo "== tests on $device (validation on)"
     if ! UMBRA_DEVICE=$device cargo test --workspace --locked --no-fail-fast -- --test-threads=2 --show-output; then
         failed+=("$device")
@@ -42,4 +43,4 @@ if [ ${#failed[@]} -gt 0 ]; then
     echo "test: FAILED on ${failed[*]}" >&2
     exit 1
 fi
-echo "test: all tests passed on llvmpipe and swiftshader"
+echo "test: all tests passed on $UMBRA_DRIVERS"

@@ -62,24 +62,11 @@ fn umbra_renders_on_an_engine_owned_device_and_leaves_it_alive() {
         // The engine picks the device UMBRA_DEVICE names, with features of its own choosing:
         // here depth clamp only (no depth bounds even where the device has it).
         let physical = instance.enumerate_physical_devices().unwrap();
-        let candidates: Vec<selection::Candidate> = physical
-            .iter()
-            .map(|&pd| {
-                let p = instance.get_physical_device_properties(pd);
-                selection::Candidate {
-                    name: p.device_name_as_c_str().unwrap().to_string_lossy().into_owned(),
-                    device_type: p.device_type,
-                    unusable: None,
-                }
-            })
-            .collect();
+        let candidates: Vec<selection::Candidate> =
+            physical.iter().map(|&pd| selection::Candidate::query(&instance, pd)).collect();
         let wanted = std::env::var(selection::DEVICE_ENV).ok();
-        let pd = physical[selection::choose(&candidates, wanted.as_deref()).expect("a device")];
-        let family = instance
-            .get_physical_device_queue_family_properties(pd)
-            .iter()
-            .position(|f| f.queue_flags.contains(vk::QueueFlags::GRAPHICS))
-            .unwrap() as u32;
+        let chosen = selection::choose(&candidates, wanted.as_deref()).expect("a device");
+        let (pd, family) = (physical[chosen], candidates[chosen].graphics_family.unwrap());
         let features = vk::PhysicalDeviceFeatures { depth_clamp: vk::TRUE, ..Default::default() };
         let mut f13 = vk::PhysicalDeviceVulkan13Features::default()
             .dynamic_rendering(true)

@@ -1,40 +1,64 @@
-//! Capabilities are probed, not assumed: depth bounds on the two CPU drivers, and features a
-//! device lacks give typed errors instead of broken pipelines.
+//! Capabilities are probed, not assumed: each CI driver reports what docs/architecture.md's
+//! driver table says of it, and features a device lacks give typed errors instead of broken
+//! pipelines.
 
 mod common;
 
+use umbra::vk::selection::fits;
 use umbra::vk::{vk, DepthState, GraphicsPipeline, GraphicsPipelineDesc, PipelineLayout, VkError};
 
-/// Which CPU driver this run uses, from the device name.
-fn driver(name: &str) -> Option<&'static str> {
-    let name = name.to_lowercase();
-    if name.contains("llvmpipe") {
-        Some("llvmpipe")
-    } else if name.contains("swiftshader") {
-        Some("swiftshader")
-    } else {
-        None
-    }
+/// The driver table of docs/architecture.md: its column headings and its rows, cell by cell.
+fn driver_table() -> (Vec<String>, Vec<Vec<String>>) {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/docs/architecture.md");
+    let text = std::fs::read_to_string(path).expect("docs/architecture.md");
+    let section = text.split("## Drivers").nth(1).expect("a Drivers section");
+    let cells =
+        |line: &str| line.trim().trim_matches('|').split(" | ").map(|c| c.trim().to_owned()).collect::<Vec<_>>();
+    let mut lines = section.lines().skip_while(|l| !l.starts_with('|')).take_while(|l| l.starts_with('|'));
+    let header = cells(lines.next().expect("a table"));
+    let rows = lines.skip(1).map(cells).collect();
+    (header, rows)
+}
+
+/// The `UMBRA_DEVICE` name a column heading gives in backquotes: `` lavapipe (`llvmpipe-mesa-25`) ``.
+fn column_device(heading: &str) -> Option<&str> {
+    heading.rsplit_once("(`").and_then(|(_, rest)| rest.split_once("`)")).map(|(name, _)| name)
 }
 
 #[test]
-fn depth_bounds_is_false_on_lavapipe_and_true_on_swiftshader() {
+fn the_driver_table_in_the_architecture_doc_is_what_this_driver_reports() {
     common::with_context(|ctx| {
         let caps = ctx.capabilities();
         println!("{}", serde_json::to_string_pretty(caps).unwrap());
-        match driver(&caps.device_name) {
-            Some("llvmpipe") => {
-                assert!(!caps.depth_bounds, "lavapipe has no depthBounds (DESIGN.md, measured)");
-                assert!(caps.geometry_shader && caps.pipeline_statistics && caps.wide_lines);
-            }
-            Some("swiftshader") => {
-                assert!(caps.depth_bounds, "SwiftShader has depthBounds");
-                assert!(!caps.geometry_shader && !caps.pipeline_statistics && !caps.wide_lines);
-            }
-            _ => panic!("this suite runs on llvmpipe or swiftshader; got {} (set UMBRA_DEVICE)", caps.device_name),
-        }
-        assert!(caps.depth_clamp && caps.timestamps);
-        assert_eq!(caps.depth_stencil_format, vk::Format::D32_SFLOAT_S8_UINT);
+        let (header, rows) = driver_table();
+        let columns: Vec<usize> = (1..header.len())
+            .filter(|&i| column_device(&header[i]).is_some_and(|d| fits(d, &caps.device_name, &caps.driver())))
+            .collect();
+        let [column] = columns[..] else {
+            panic!(
+                "{} ({}) is not one column of docs/architecture.md's driver table: {header:?}",
+                caps.device_name,
+                caps.driver()
+            );
+        };
+        println!("this driver's column: {}", header[column]);
+        let yes = |row: &str| -> bool {
+            let cells = rows.iter().find(|r| r[0].starts_with(row)).unwrap_or_else(|| panic!("no row {row:?}"));
+            let cell = &cells[column];
+            assert!(cell.starts_with("yes") || cell.starts_with("no"), "row {row:?}: {cell:?} is neither yes nor no");
+            cell.starts_with("yes")
+        };
+        let vulkan = rows.iter().find(|r| r[0] == "Vulkan").expect("a Vulkan row");
+        assert_eq!(vulkan[column], caps.api_version, "Vulkan version");
+        assert_eq!(yes("depthBounds"), caps.depth_bounds, "depthBounds");
+        assert_eq!(yes("depthClamp"), caps.depth_clamp, "depthClamp");
+        let gs = yes("geometry shaders, wide lines, pipeline statistics");
+        assert_eq!([gs; 3], [caps.geometry_shader, caps.wide_lines, caps.pipeline_statistics], "geometry shaders etc.");
+        assert_eq!(yes("timestamps"), caps.timestamps, "timestamps");
+        assert_eq!(yes("D32_SFLOAT_S8_UINT"), caps.depth_stencil_format == vk::Format::D32_SFLOAT_S8_UINT);
+        assert_eq!(yes("watertight frustum clipping"), caps.watertight_clipping, "watertight clipping");
+        assert_eq!(yes("ray queries"), caps.ray_query, "ray queries");
+        // Not in the table, and the same on every CI driver.
         assert!(!caps.conservative_rasterization);
     });
 }
@@ -71,6 +95,31 @@ fn an_unknown_device_gives_an_error_listing_the_devices() {
     assert!(matches!(err, VkError::NoDevice { .. }));
     assert!(text.contains("no-such-gpu-xyz"), "{text}");
     assert!(text.to_lowercase().contains("llvmpipe") || text.to_lowercase().contains("swiftshader"), "{text}");
+}
+
+#[test]
+fn a_device_name_both_lavapipes_share_is_an_error_naming_both_drivers() {
+    let options = umbra::vk::ContextOptions {
+        validation: false,
+        synchronization_validation: false,
+        device: Some("llvmpipe".into()),
+        surface_extensions: Vec::new(),
+    };
+    let icds = std::env::var("VK_ICD_FILENAMES").unwrap_or_default();
+    let lavapipes = icds.split(':').filter(|f| f.ends_with("lvp_icd.json") || f.contains("/lvp_icd.")).count();
+    match umbra::vk::Context::with_options(&options) {
+        Err(err @ VkError::AmbiguousDevice { .. }) => {
+            let text = err.to_string();
+            println!("{text}");
+            assert!(text.contains("Mesa 22.3.6") && text.contains("Mesa 25."), "{text}");
+            assert!(text.contains("llvmpipe-mesa-25"), "the error shows how to name one: {text}");
+        }
+        Ok(ctx) => {
+            assert!(lavapipes < 2, "{lavapipes} lavapipe ICDs in VK_ICD_FILENAMES, yet `llvmpipe` picked one");
+            println!("one lavapipe installed: {}", ctx.capabilities().driver());
+        }
+        Err(other) => panic!("{other}"),
+    }
 }
 
 #[test]

@@ -9,8 +9,9 @@
 //! written to `$CARGO_TARGET_TMPDIR/fuzz-crashes/` and named in the failure, to be added to
 //! `tests/bad-input/` with its expected answer.
 //!
-//! CI runs `UMBRA_FUZZ_CASES` (default 10 000) cases in each of its two runs, from seed 1
-//! (`UMBRA_DEVICE=llvmpipe`) and 2 (`swiftshader`; 0 otherwise); the longer run is
+//! CI runs `UMBRA_FUZZ_CASES` (default 10 000) cases in each of its three runs, from seed 1
+//! (`UMBRA_DEVICE=llvmpipe-mesa-22`), 2 (`swiftshader`) and 3 (`llvmpipe-mesa-25`; 0
+//! otherwise); the longer run is
 //! `UMBRA_FUZZ_CASES=200000 UMBRA_FUZZ_SEED=$RANDOM cargo test --release --test fuzz -- --nocapture`.
 
 mod common;
@@ -235,12 +236,13 @@ fn load(seed: &Seed, bytes: &[u8]) -> Option<umbra::scene::Scene> {
     }
 }
 
-/// `UMBRA_FUZZ_SEED`, else one fixed seed per CI driver run, so the suite's two runs fuzz
-/// different cases.
+/// `UMBRA_FUZZ_SEED`, else one fixed seed per CI driver run (ci/drivers.sh's names), so the
+/// suite's three runs fuzz different cases.
 fn fuzz_seed() -> u64 {
     let default = match std::env::var("UMBRA_DEVICE").as_deref() {
-        Ok("llvmpipe") => 1,
+        Ok("llvmpipe-mesa-22" | "llvmpipe") => 1,
         Ok("swiftshader") => 2,
+        Ok("llvmpipe-mesa-25") => 3,
         _ => 0,
     };
     env_u64("UMBRA_FUZZ_SEED", default)

@@ -187,21 +187,10 @@ impl EngineDevice {
 fn pick(instance: &ash::Instance) -> anyhow::Result<vk::PhysicalDevice> {
     // SAFETY: plain queries on a live instance.
     let physical = unsafe { instance.enumerate_physical_devices()? };
-    let candidates: Vec<selection::Candidate> = physical
-        .iter()
-        .map(|&pd| {
-            // SAFETY: `pd` comes from this instance.
-            let p = unsafe { instance.get_physical_device_properties(pd) };
-            selection::Candidate {
-                name: p.device_name_as_c_str().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default(),
-                device_type: p.device_type,
-                unusable: None,
-            }
-        })
-        .collect();
-    let wanted = std::env::var(selection::DEVICE_ENV).ok();
-    let i = selection::choose(&candidates, wanted.as_deref())
-        .ok_or_else(|| anyhow::anyhow!("no Vulkan device matches UMBRA_DEVICE={wanted:?}"))?;
+    // SAFETY: every `pd` comes from this live instance.
+    let candidates: Vec<selection::Candidate> =
+        physical.iter().map(|&pd| unsafe { selection::Candidate::query(instance, pd) }).collect();
+    let i = selection::choose(&candidates, std::env::var(selection::DEVICE_ENV).ok().as_deref())?;
     Ok(physical[i])
 }
 

@@ -127,7 +127,7 @@ impl Capabilities {
     /// Driver name and version in one string (`llvmpipe Mesa 22.3.6 (LLVM 15.0.6)`), as frame
     /// reports and bench results name it.
     pub fn driver(&self) -> String {
-        format!("{} {}", self.driver_name, self.driver_info).trim().to_owned()
+        driver_label(&self.driver_name, &self.driver_info)
     }
 
     pub(crate) fn from_parts(p: Probe<'_>) -> Self {
@@ -182,6 +182,12 @@ impl Capabilities {
             sub_pixel_precision_bits: limits.sub_pixel_precision_bits,
         }
     }
+}
+
+/// `driverName driverInfo` in one string, as [`Capabilities::driver`] and device selection
+/// read it.
+pub(crate) fn driver_label(name: &str, info: &str) -> String {
+    format!("{name} {info}").trim().to_owned()
 }
 
 /// Short lower-case name of a device type.

@@ -521,13 +521,11 @@ type DeviceParts = (vk::PhysicalDevice, ash::Device, u32, vk::PhysicalDeviceFeat
 fn pick_and_create_device(instance: &ash::Instance, wanted: Option<&str>, presentation: bool) -> VkResult<DeviceParts> {
     // SAFETY: plain queries of a live instance.
     let physical = unsafe { instance.enumerate_physical_devices() }.call("vkEnumeratePhysicalDevices")?;
-    let candidates: Vec<(Candidate, Option<u32>)> = physical.iter().map(|&pd| assess(instance, pd)).collect();
-    let list: Vec<Candidate> = candidates.iter().map(|(c, _)| c.clone()).collect();
-    let Some(i) = selection::choose(&list, wanted) else {
-        return Err(VkError::NoDevice { wanted: wanted.map(str::to_owned), available: selection::describe(&list) });
-    };
+    // SAFETY: every `pd` comes from this live instance.
+    let candidates: Vec<Candidate> = physical.iter().map(|&pd| unsafe { Candidate::query(instance, pd) }).collect();
+    let i = selection::choose(&candidates, wanted)?;
     let pd = physical[i];
-    let family = candidates[i].1.ok_or_else(|| VkError::NoDevice { wanted: None, available: vec![] })?;
+    let family = candidates[i].graphics_family.ok_or_else(|| VkError::NoDevice { wanted: None, available: vec![] })?;
     // SAFETY: plain queries of a live physical device.
     let (supported, exts) = unsafe {
         (
@@ -547,7 +545,7 @@ fn pick_and_create_device(instance: &ash::Instance, wanted: Option<&str>, presen
     }
     if presentation {
         if !has_ext(ash::khr::swapchain::NAME) {
-            let name = candidates[i].0.name.clone();
+            let name = candidates[i].name.clone();
             return Err(VkError::Unsupported {
                 device: name,
                 what: "presenting to a window (VK_KHR_swapchain)".into(),
@@ -577,33 +575,6 @@ fn pick_and_create_device(instance: &ash::Instance, wanted: Option<&str>, presen
     // SAFETY: every pointer in `info` outlives the call; features were checked as supported.
     let device = unsafe { instance.create_device(pd, &info, None) }.call("vkCreateDevice")?;
     Ok((pd, device, family, enabled, conservative))
-}
-
-/// Whether umbra can use `pd`, and its graphics queue family.
-fn assess(instance: &ash::Instance, pd: vk::PhysicalDevice) -> (Candidate, Option<u32>) {
-    // SAFETY: plain queries of a live physical device.
-    let (props, families, f13) = unsafe {
-        let props = instance.get_physical_device_properties(pd);
-        let families = instance.get_physical_device_queue_family_properties(pd);
-        let mut f13 = vk::PhysicalDeviceVulkan13Features::default();
-        if props.api_version >= vk::API_VERSION_1_3 {
-            let mut f2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut f13);
-            instance.get_physical_device_features2(pd, &mut f2);
-        }
-        (props, families, (f13.dynamic_rendering, f13.synchronization2))
-    };
-    let name = props.device_name_as_c_str().map(|c| c.to_string_lossy().into_owned()).unwrap_or_default();
-    let family = families.iter().position(|f| f.queue_flags.contains(vk::QueueFlags::GRAPHICS)).map(|i| i as u32);
-    let unusable = if props.api_version < vk::API_VERSION_1_3 {
-        Some("needs Vulkan 1.3".to_owned())
-    } else if family.is_none() {
-        Some("no graphics queue".to_owned())
-    } else if f13 != (vk::TRUE, vk::TRUE) {
-        Some("no dynamicRendering/synchronization2".to_owned())
-    } else {
-        None
-    };
-    (Candidate { name, device_type: props.device_type, unusable }, family)
 }
 
 fn probe(

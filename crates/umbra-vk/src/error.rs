@@ -24,6 +24,14 @@ pub enum VkError {
         /// One line per device the loader reported, with why it was not taken.
         available: Vec<String>,
     },
+    /// The `UMBRA_DEVICE` filter fits more than one device: they differ in name or driver.
+    #[error("UMBRA_DEVICE={wanted:?} fits more than one device; name one by more of its name or driver (`-` reads as a space, e.g. llvmpipe-mesa-25):\n{}", matching.join("\n"))]
+    AmbiguousDevice {
+        /// The `UMBRA_DEVICE` filter.
+        wanted: String,
+        /// One line per device it fits: name, type and driver.
+        matching: Vec<String>,
+    },
     /// `UMBRA_VALIDATION=1` asked for the Khronos validation layer but it is not installed.
     #[error("UMBRA_VALIDATION=1 but the layer VK_LAYER_KHRONOS_validation is not installed (Debian: vulkan-validationlayers)")]
     ValidationLayerMissing,
