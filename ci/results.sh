@@ -7,6 +7,7 @@
 #     into docs/results/<device>/; the first device's is also docs/images/poster.png, the README's picture
 #   - the umbra-bench sweep into docs/results/<device>/ (summary.md, results.csv, results.json)
 #     with its plots in docs/images/results/<device>/
+# and then docs/results/drivers.md, the sweeps side by side (`umbra-bench compare`).
 # The reading in docs/results.md is written from these. Installs what it needs first
 # (ci/setup.sh). Builds the dev profile, as the tests do (umbra at opt-level 1, its dependencies
 # at 2): the GPU times are the driver's whatever umbra's profile, and a release build would add
@@ -31,6 +32,7 @@ sweep_args() {
 }
 
 first=""
+compared=()
 for device in ${UMBRA_RESULTS_DEVICES:-$UMBRA_DRIVERS}; do
     out="target/results/$device"
     rm -rf "$out"
@@ -47,9 +49,11 @@ for device in ${UMBRA_RESULTS_DEVICES:-$UMBRA_DRIVERS}; do
     cp "$out"/*.png "docs/images/results/$device/"
     # The summary sits one folder away from its plots.
     sed -i "s|!\\[\\(.*\\)\\](\\(.*\\.png\\))|![\\1](../../images/results/$device/\\2)|" "docs/results/$device/summary.md"
+    compared+=("docs/results/$device/results.json")
     if [ -z "$first" ]; then
         first=$device
         cp "$out/poster/poster.png" docs/images/poster.png
     fi
 done
+"$bench" compare --results "$(IFS=,; echo "${compared[*]}")" --out docs/results/drivers.md
 echo "results: docs/images/poster.png is $first's"

@@ -1,9 +1,11 @@
-//! The `umbra-bench` command line: `sweep`, `poster`, `hard-cases`, `fingerprint`, `frame-cost` and
-//! `bvh`.
+//! The `umbra-bench` command line: `sweep`, `poster`, `hard-cases`, `fingerprint`, `frame-cost`,
+//! `bvh`, `plot` and `compare`.
 
 use crate::record::{Record, Results, CSV_HEADER};
 use crate::sweep::{self, Plan};
-use crate::{bvh, fingerprint, frame_cost, hard_cases, plots, poster, scenes, summary, BenchError, BenchResult};
+use crate::{
+    bvh, compare, fingerprint, frame_cost, hard_cases, plots, poster, scenes, summary, BenchError, BenchResult,
+};
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
@@ -39,6 +41,10 @@ enum Command {
     /// Read a sweep's `results.json` and write its CSV, plots and summary again, without
     /// rendering: charts follow a change of style without a new sweep.
     Plot(PlotArgs),
+    /// Read several devices' sweeps (`results.json`) and write one page: per scene and device
+    /// the fastest technique at each accuracy, where the device changes it, and which runs
+    /// score different wrong pixels.
+    Compare(compare::CompareArgs),
 }
 
 #[derive(clap::Args, Debug)]
@@ -109,6 +115,7 @@ pub fn main() {
         Command::FrameCost(args) => frame_cost::run(&args),
         Command::Bvh(args) => bvh::run(&args),
         Command::Plot(args) => run_plot(&args),
+        Command::Compare(args) => compare::run(&args),
     };
     if let Err(e) = result {
         eprintln!("umbra-bench: {e}");

@@ -81,7 +81,11 @@ fn write(args: &HardCasesArgs, devices: &[(String, Vec<CaseRun>)]) -> BenchResul
     let text = serde_json::to_string_pretty(devices).map_err(|e| BenchError::output(&json, e))?;
     std::fs::write(&json, text).map_err(|e| BenchError::output(&json, e))?;
     let page = args.out.join("hard-cases.md");
-    let md = format!("{}{}", HEADER, report::markdown(devices, "images/hard-cases"));
+    let md = format!(
+        "{HEADER}How the drivers agree:\n\n{}\n{}",
+        report::agreement(devices),
+        report::markdown(devices, "images/hard-cases")
+    );
     std::fs::write(&page, md).map_err(|e| BenchError::output(&page, e))?;
     log::info!("wrote {}, {} and {}", page.display(), json.display(), images.display());
     Ok(())

@@ -30,6 +30,11 @@
 //! writes `hard-cases.md` (cases × techniques × devices), a picture per case and
 //! `results/hard-cases.json` under `--out` (`bash ci/hard-cases.sh` writes `docs/`).
 //!
+//! `umbra-bench compare --results A/results.json,B/results.json,… --out PAGE.md` sets several
+//! devices' sweeps side by side: per scene and device the fastest run at shadow-volume and at
+//! ray-tracing accuracy, where the device changes which technique that is, and which runs score
+//! different wrong pixels (`bash ci/results.sh` writes `docs/results/drivers.md`).
+//!
 //! Configurations the device cannot run (the depth-bounds mask without `depthBounds`, a
 //! silhouette map for a light that needs a cube map, …) are skipped with the reason logged and
 //! listed in `results.json` and `summary.md`.
@@ -38,6 +43,7 @@
 
 pub mod bvh;
 pub mod cli;
+pub mod compare;
 mod error;
 pub mod fingerprint;
 pub mod frame_cost;

@@ -16,6 +16,44 @@ pub fn cell(v: &Verdict) -> &'static str {
     }
 }
 
+/// One line per device after the first: in how many case–technique runs it gives the first
+/// device's judgement (compared, shadowed and wrong pixels, and the verdict) and the same
+/// frame, pixel for pixel, naming the runs that differ.
+pub fn agreement(devices: &[(String, Vec<CaseRun>)]) -> String {
+    let mut md = String::new();
+    let Some(((first, reference), others)) = devices.split_first() else { return md };
+    for (name, runs) in others {
+        let (mut pairs, mut same_judgement, mut same_frame, mut differ) = (0, 0, 0, Vec::new());
+        for (a, b) in reference.iter().zip(runs) {
+            for (ta, tb) in a.techniques.iter().zip(&b.techniques) {
+                pairs += 1;
+                let counts =
+                    |t: &crate::run::TechniqueRun| t.judgement.as_ref().map(|j| (j.compared, j.shadowed, j.wrong));
+                if counts(ta) == counts(tb) && ta.verdict == tb.verdict {
+                    same_judgement += 1;
+                } else {
+                    differ.push(format!("{} {}", a.case, ta.technique.name()));
+                }
+                same_frame += usize::from(ta.rgba == tb.rgba);
+            }
+        }
+        let _ = write!(
+            md,
+            "- `{name}` gives `{first}`'s judgement (compared, shadowed and wrong pixels, verdict) in {same_judgement} \
+             of {pairs} case–technique runs, and the same frame pixel for pixel in {same_frame}"
+        );
+        if differ.is_empty() {
+            md.push_str(".\n");
+        } else {
+            let more = differ.len().saturating_sub(6);
+            differ.truncate(6);
+            let more = if more > 0 { format!(" and {more} more") } else { String::new() };
+            let _ = writeln!(md, "; the judgement differs in {}{more}.", differ.join(", "));
+        }
+    }
+    md
+}
+
 /// The table of cases × techniques × devices, then per case its reason, picture and every
 /// non-pass verdict's detail. `devices` pairs a device name with its runs (same case order);
 /// `images` is the pictures' folder relative to the page.

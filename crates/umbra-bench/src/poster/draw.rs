@@ -48,8 +48,8 @@ pub fn save(poster: &Poster, measured: &[Measured], path: &Path) -> BenchResult<
         let root = BitMapBackend::with_buffer(&mut rgb, (width, height)).into_drawing_area();
         let text = |size: u32, colour: &RGBColor| ("sans-serif", size).into_font().color(colour);
         let title = format!(
-            "umbra · {} · {}×{} on {} — every technique on the same frame, against the exact ray-traced reference",
-            poster.scene, w, h, poster.device
+            "umbra · {} · {}×{} on {}, {} — every technique on the same frame, against the exact ray-traced reference",
+            poster.scene, w, h, poster.device, poster.driver
         );
         root.draw(&Text::new(title, (GAP as i32, 20), text(22, &BLACK))).map_err(|e| err(&e))?;
         for (i, m) in measured.iter().enumerate() {
