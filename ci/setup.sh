@@ -91,6 +91,7 @@ if [ -z "$mesa_icd" ]; then
     rm -rf "$mesa_dir.tmp"
     mkdir -p "$mesa_dir.tmp"
     dpkg -x "$apt_dir"/debs/mesa-vulkan-drivers_*.deb "$mesa_dir.tmp/root"
+    rm -f "$apt_dir"/debs/*.deb
     rm -rf "$mesa_dir"
     mv "$mesa_dir.tmp" "$mesa_dir"
     lib=$(find "$mesa_dir/root" -name libvulkan_lvp.so | head -n 1)

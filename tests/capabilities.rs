@@ -81,14 +81,19 @@ fn a_depth_bounds_pipeline_is_built_only_where_the_feature_exists() {
     });
 }
 
-#[test]
-fn an_unknown_device_gives_an_error_listing_the_devices() {
-    let options = umbra::vk::ContextOptions {
+/// Options that pick `device` by name, validation off.
+fn picking(device: &str) -> umbra::vk::ContextOptions {
+    umbra::vk::ContextOptions {
         validation: false,
         synchronization_validation: false,
-        device: Some("no-such-gpu-xyz".into()),
+        device: Some(device.into()),
         surface_extensions: Vec::new(),
-    };
+    }
+}
+
+#[test]
+fn an_unknown_device_gives_an_error_listing_the_devices() {
+    let options = picking("no-such-gpu-xyz");
     let err = umbra::vk::Context::with_options(&options).unwrap_err();
     let text = err.to_string();
     println!("{text}");
@@ -99,12 +104,7 @@ fn an_unknown_device_gives_an_error_listing_the_devices() {
 
 #[test]
 fn a_device_name_both_lavapipes_share_is_an_error_naming_both_drivers() {
-    let options = umbra::vk::ContextOptions {
-        validation: false,
-        synchronization_validation: false,
-        device: Some("llvmpipe".into()),
-        surface_extensions: Vec::new(),
-    };
+    let options = picking("llvmpipe");
     let icds = std::env::var("VK_ICD_FILENAMES").unwrap_or_default();
     let lavapipes = icds.split(':').filter(|f| f.ends_with("lvp_icd.json") || f.contains("/lvp_icd.")).count();
     match umbra::vk::Context::with_options(&options) {

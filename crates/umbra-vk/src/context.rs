@@ -29,7 +29,9 @@ pub struct ContextOptions {
     /// commands: `SYNC-HAZARD-*` messages), through `VK_EXT_validation_features`; it is an
     /// error if the layer does not offer that extension.
     pub synchronization_validation: bool,
-    /// Case-insensitive substring of the device name to pick (`llvmpipe`, `swiftshader`, …).
+    /// The device to pick: a piece of its name or driver, ignoring case, `-` read as a space
+    /// (`swiftshader`, `llvmpipe-mesa-25`, …; see [`crate::selection`]). One that fits two
+    /// different devices is [`crate::VkError::AmbiguousDevice`].
     pub device: Option<String>,
     /// Instance extensions for presenting to a window (from [`crate::surface_extensions`]);
     /// when not empty, the device also gets `VK_KHR_swapchain` and [`crate::Swapchain`] can be
