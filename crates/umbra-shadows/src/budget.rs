@@ -1,50 +1,11 @@
 //! The shadow-map memory budget: what every light's shadow storage needs in one frame, summed
 //! and compared with `RendererDesc::shadow_map_budget_bytes` before any of it is allocated.
 
+pub use crate::error::ShadowStorage;
 use crate::{RenderError, RenderResult};
-use serde::Serialize;
 
 /// The default budget: 1 GiB, ten 2048² point-light cube maps or one 16384² map.
 pub const DEFAULT_SHADOW_MAP_BUDGET: u64 = 1 << 30;
-
-/// What one light's shadow storage takes in a frame.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-pub struct ShadowStorage {
-    /// Index of the light.
-    pub light: usize,
-    /// Texels per side of its maps.
-    pub resolution: u32,
-    /// Whether its depth map is a cube (six faces).
-    pub cube: bool,
-    /// Whether it has a depth map (a hybrid light without blocker culling has only its depth
-    /// bounds, of the same size).
-    pub depth: bool,
-    /// Whether it also has a silhouette map (and, with diagnostics, its readback).
-    pub silhouette: bool,
-    /// Whether it also has the hybrid's depth bounds (two depth layers per map face).
-    pub bounds: bool,
-    /// Bytes of its depth map, silhouette map and silhouette-map readback, and depth bounds.
-    pub bytes: u64,
-}
-
-impl std::fmt::Display for ShadowStorage {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let faces = if self.cube { "6 x " } else { "" };
-        // A silhouette map's cube is a face atlas: its faces carry borders.
-        let (side, borders) = match (self.cube, self.silhouette) {
-            (true, true) => (crate::shadow_map::atlas::face_side(self.resolution), " (faces with their borders)"),
-            _ => (self.resolution, ""),
-        };
-        let silhouette = if self.silhouette { " + silhouette map" } else { "" };
-        let bounds = match (self.bounds, self.depth) {
-            (false, _) => "",
-            (true, true) => " + depth bounds",
-            (true, false) => " depth bounds",
-        };
-        let bytes = umbra_vk::human_bytes(self.bytes);
-        write!(f, "light {}: {faces}{side}²{borders}{silhouette}{bounds} = {bytes}", self.light)
-    }
-}
 
 /// Bytes of an image of `desc` whose texels take `texel` bytes (every layer).
 pub(crate) fn desc_bytes(desc: &umbra_vk::ImageDesc, texel: u64) -> u64 {
@@ -85,6 +46,7 @@ mod tests {
         ShadowStorage {
             light,
             resolution: 2048,
+            face_side: 2048,
             cube: true,
             depth: true,
             silhouette: false,

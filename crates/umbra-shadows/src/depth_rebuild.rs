@@ -7,8 +7,8 @@
 //! frame-sized depth/stencil image (`docs/embedding.md`).
 
 use crate::forward::{draw_objects, surface_pass_desc};
+use crate::frame::timing::PassLog;
 use crate::gpu_scene::GpuScene;
-use crate::timing::PassLog;
 use crate::RenderResult;
 use umbra_scene::Scene;
 use umbra_vk::{
@@ -44,7 +44,7 @@ impl DepthRebuild {
     pub fn image(&mut self, ctx: &Context) -> RenderResult<&Image> {
         if self.image.is_none() {
             let (width, height) = self.extent;
-            let desc = crate::renderer::depth_desc(self.format, width, height);
+            let desc = crate::targets::depth_desc(self.format, width, height);
             self.image = Some(Image::new(ctx, "rebuilt depth/stencil", desc)?);
         }
         self.made()

@@ -1,6 +1,6 @@
 //! The one error type of `umbra-shadows`.
 
-use crate::budget::ShadowStorage;
+use serde::Serialize;
 use umbra_scene::Technique;
 use umbra_vk::Limit;
 
@@ -119,3 +119,43 @@ pub enum RenderError {
 
 /// `Result` with [`RenderError`].
 pub type RenderResult<T> = Result<T, RenderError>;
+
+/// What one light's shadow storage takes in a frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct ShadowStorage {
+    /// Index of the light.
+    pub light: usize,
+    /// Texels per side of its maps.
+    pub resolution: u32,
+    /// Texels per side of one face as allocated: `resolution`, plus the borders around each face
+    /// of a cube silhouette map's atlas.
+    pub face_side: u32,
+    /// Whether its depth map is a cube (six faces).
+    pub cube: bool,
+    /// Whether it has a depth map (a hybrid light without blocker culling has only its depth
+    /// bounds, of the same size).
+    pub depth: bool,
+    /// Whether it also has a silhouette map (and, with diagnostics, its readback).
+    pub silhouette: bool,
+    /// Whether it also has the hybrid's depth bounds (two depth layers per map face).
+    pub bounds: bool,
+    /// Bytes of its depth map, silhouette map and silhouette-map readback, and depth bounds.
+    pub bytes: u64,
+}
+
+impl std::fmt::Display for ShadowStorage {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let faces = if self.cube { "6 x " } else { "" };
+        // A silhouette map's cube is a face atlas: its faces carry borders.
+        let borders = if self.face_side != self.resolution { " (faces with their borders)" } else { "" };
+        let side = self.face_side;
+        let silhouette = if self.silhouette { " + silhouette map" } else { "" };
+        let bounds = match (self.bounds, self.depth) {
+            (false, _) => "",
+            (true, true) => " + depth bounds",
+            (true, false) => " depth bounds",
+        };
+        let bytes = umbra_vk::human_bytes(self.bytes);
+        write!(f, "light {}: {faces}{side}²{borders}{silhouette}{bounds} = {bytes}", self.light)
+    }
+}

@@ -6,9 +6,9 @@
 //! sees bit-identical depths. Faces are not culled: open meshes show their inside, lit from
 //! that side. The shadow filter and out-of-frustum policy are specialization constants.
 
+use crate::frame::timing::PassLog;
 use crate::gpu_scene::{self, Bound, DrawPush, GpuScene};
 use crate::shadow_map::ShadowMapSettings;
-use crate::timing::PassLog;
 use crate::RenderResult;
 use umbra_scene::Scene;
 use umbra_vk::{

@@ -2,7 +2,7 @@
 //! light storage buffers, the frame uniforms, and the descriptor set that binds them.
 //! Layouts mirror `shaders-glsl/common/scene.glsl`.
 
-use crate::shadows::MeshBuffers;
+use crate::mesh_buffers::MeshBuffers;
 use crate::streams::Stream;
 use crate::{RenderError, RenderResult};
 use bytemuck::{Pod, Zeroable};
@@ -60,18 +60,6 @@ struct GpuLight {
     spot_direction: [f32; 4],
     spot_params: [f32; 4],
     shadow_params: [f32; 4],
-}
-
-/// [`GpuShadow::kind`] of a map of `kind`, with or without a silhouette map: the shaders'
-/// `SHADOW_2D` (1), `SHADOW_CUBE` (2), `SHADOW_SILHOUETTE` (3) and `SHADOW_SILHOUETTE_CUBE` (4).
-pub(crate) fn shadow_kind(kind: crate::shadow_map::frustum::MapKind, silhouette: bool) -> u32 {
-    use crate::shadow_map::frustum::MapKind;
-    match (kind, silhouette) {
-        (MapKind::Single, false) => 1,
-        (MapKind::Cube, _) => 2,
-        (MapKind::Single, true) => 3,
-        (MapKind::FaceAtlas, _) => 4,
-    }
 }
 
 /// What the lighting pass needs to know of a light's shadow map this frame.

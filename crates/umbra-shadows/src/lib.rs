@@ -12,7 +12,6 @@
 
 #![warn(missing_docs)]
 
-mod auto;
 mod budget;
 mod depth_rebuild;
 pub mod diagnostics;
@@ -22,6 +21,7 @@ mod frame;
 mod gbuffer;
 mod gpu_scene;
 pub mod hybrid;
+mod mesh_buffers;
 mod mesh_cache;
 pub mod plan;
 pub mod ray_traced;
@@ -34,29 +34,34 @@ pub mod shadow_volume;
 pub mod shadows;
 pub mod silhouette_map;
 mod streams;
+mod targets;
 mod technique;
-mod timing;
 mod view;
 pub mod visibility;
 
-pub use auto::{AutoAccuracy, AutoPolicy};
-pub use budget::{ShadowStorage, DEFAULT_SHADOW_MAP_BUDGET};
+pub use budget::DEFAULT_SHADOW_MAP_BUDGET;
 pub use diagnostics::{GBuffer, LightDiagnostics, PixelClass, SilhouetteMapImage};
-pub use error::{RenderError, RenderResult};
+pub use error::{RenderError, RenderResult, ShadowStorage};
+pub use frame::timing::PassReport;
 pub use frame::PassId;
 pub use hybrid::{HybridSettings, MaskKind};
+pub use mesh_buffers::{IndexStream, MeshBuffers, VertexStream};
+pub use plan::auto::{AutoAccuracy, AutoPolicy};
 pub use plan::{
-    CasterMode, CullReason, Culled, DepthPrecision, FramePlan, HybridReport, HybridRtReport, LightPlan,
-    RayTracedReport, ShadowMapReport, ShadowVolumeReport, SilhouetteMapReport,
+    CullReason, Culled, FramePlan, HybridReport, HybridRtReport, LightPlan, RayTracedReport, ShadowMapReport,
+    SilhouetteMapReport,
 };
 pub use ray_traced::TraversalReport;
-pub use renderer::{Frame, Renderer, RendererDesc, COLOR_FORMAT};
+pub use renderer::{Frame, Renderer, RendererDesc};
 pub use report::{FrameReport, MeshTopology, SceneSummary, TopologySource, VolumeConstruction};
 pub use shadow_map::{DepthBias, ShadowFilter, ShadowMapSettings};
-pub use shadow_volume::{FarPlane, HostClip, ShadowVolumeSettings, VolumeBuild, VolumeMode};
-pub use shadows::{
-    DepthTarget, FrameInputs, IndexStream, Instance, InstanceId, LightShadows, MeshBuffers, MeshId, RebuildReason,
-    SampledImage, ShadowFrame, ShadowMapOutput, Shadows, ShadowsDesc, VertexStream,
+pub use shadow_volume::{
+    CasterMode, FarPlane, HostClip, ShadowVolumeReport, ShadowVolumeSettings, VolumeBuild, VolumeMode,
 };
-pub use timing::PassReport;
+pub use shadows::{
+    DepthTarget, FrameInputs, Instance, InstanceId, LightShadows, MeshId, RebuildReason, SampledImage, ShadowFrame,
+    ShadowMapOutput, Shadows, ShadowsDesc,
+};
+pub use targets::COLOR_FORMAT;
+pub use view::DepthPrecision;
 pub use visibility::{VisibilityImage, VISIBILITY_FORMAT};

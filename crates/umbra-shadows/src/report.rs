@@ -1,9 +1,9 @@
 //! The frame report: what a frame did, on which device, and what it cost on the GPU.
 
+use crate::frame::timing::PassReport;
 use crate::plan::{FramePlan, LightPlan};
 use crate::shadow_map::ShadowMapSettings;
 use crate::shadow_volume::ShadowVolumeSettings;
-use crate::timing::PassReport;
 use serde::Serialize;
 use umbra_scene::{Adjacency, Scene, TopologyReport};
 use umbra_vk::Capabilities;

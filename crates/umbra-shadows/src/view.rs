@@ -3,6 +3,7 @@
 //! numbers planning and fitting read off them.
 
 use glam::{Mat4, Vec3};
+use serde::Serialize;
 use umbra_scene::Camera;
 
 /// A frame's view: world to view, view to clip (Vulkan's 0 ≤ z ≤ w, depth growing with
@@ -71,10 +72,39 @@ impl View {
     /// The camera's depth precision at `distance` (the scene's farthest point) where it is
     /// coarser than at [`umbra_scene::Camera::EXACT_NEAR_RATIO`], the ratio at which shadow
     /// volumes are measured exact; `None` where it is as fine.
-    pub fn depth_precision(&self, distance: f32) -> Option<crate::plan::DepthPrecision> {
+    pub fn depth_precision(&self, distance: f32) -> Option<DepthPrecision> {
         let step = self.depth_step_at(distance);
-        let exact = distance * crate::plan::DepthPrecision::EXACT_RELATIVE_STEP;
-        (distance > 0.0 && step > exact).then_some(crate::plan::DepthPrecision { distance, step })
+        let exact = distance * DepthPrecision::EXACT_RELATIVE_STEP;
+        (distance > 0.0 && step > exact).then_some(DepthPrecision { distance, step })
+    }
+}
+
+/// How coarse the camera's depth is at the scene's farthest point
+/// ([`crate::ShadowVolumeReport::depth_precision`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct DepthPrecision {
+    /// Distance from the eye to the farthest point of any object's bounds.
+    pub distance: f32,
+    /// World distance between two adjacent depth values there.
+    pub step: f32,
+}
+
+impl DepthPrecision {
+    /// The depth step, as a fraction of the distance, at which shadow volumes are measured
+    /// exact: that of a near plane at [`umbra_scene::Camera::EXACT_NEAR_RATIO`] of the distance
+    /// (about 0.06 %). Coarser steps are reported.
+    pub const EXACT_RELATIVE_STEP: f32 = umbra_scene::Camera::DEPTH_STEP / umbra_scene::Camera::EXACT_NEAR_RATIO;
+
+    /// A one-line warning for light `light`'s shadow volumes.
+    pub fn warning(&self, light: usize) -> String {
+        format!(
+            "warning: light {light}: the camera's depth resolves {:.3e} world units ({:.2} % of the distance) at the scene's farthest point, {:.3e} away; shadow volumes are measured exact to {:.2} % (near plane {:e} of the distance): volume faces and surfaces nearer each other than that may count on the wrong side",
+            self.step,
+            100.0 * self.step / self.distance,
+            self.distance,
+            100.0 * Self::EXACT_RELATIVE_STEP,
+            umbra_scene::Camera::EXACT_NEAR_RATIO,
+        )
     }
 }
 

@@ -21,10 +21,10 @@
 //! so the lighting is bit for bit what it was when each pass did its own lookup.
 
 use crate::forward::{self, Bounded, PassBounds};
+use crate::frame::timing::PassLog;
 use crate::gpu_scene::GpuScene;
 use crate::retired::Retired;
 use crate::shadow_map::ShadowMapSettings;
-use crate::timing::PassLog;
 use crate::{RenderError, RenderResult};
 use std::path::Path;
 use umbra_scene::Scene;

@@ -6,8 +6,8 @@
 //! No reordering, no aliasing, no compile step: passes run in the order declared.
 
 use super::states::ImageStates;
+use super::timing::{PassLog, PassReport};
 use super::PassId;
-use crate::timing::{PassLog, PassReport};
 use crate::RenderResult;
 use umbra_vk::{Buffer, BufferState, Context, Image, ImageState, QueryKind, QueryPool, Recorder};
 

@@ -4,6 +4,7 @@
 mod graph;
 mod pass_id;
 mod states;
+pub(crate) mod timing;
 
 pub(crate) use graph::{FrameGraph, PassRecorder, QueryId, Stage, StageResults, Use};
 pub use pass_id::PassId;

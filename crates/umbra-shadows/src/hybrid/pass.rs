@@ -40,7 +40,7 @@ struct Targets {
 pub(crate) fn target_descs(depth_format: vk::Format, width: u32, height: u32) -> (ImageDesc, ImageDesc) {
     let usage =
         vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC;
-    let classes = ImageDesc::new_2d(crate::COLOR_FORMAT, width, height).usage(usage);
+    let classes = ImageDesc::new_2d(crate::targets::COLOR_FORMAT, width, height).usage(usage);
     let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
         | vk::ImageUsageFlags::TRANSFER_DST
         | vk::ImageUsageFlags::TRANSFER_SRC;
@@ -124,7 +124,7 @@ impl HybridPass {
         let spec = [(1, u32::from(shadow.outside_lit))];
         let mut desc =
             forward::surface_pass_desc("hybrid classify", umbra_shaders::hybrid::CLASSIFY_FRAG, depth_format, &spec);
-        let targets = [ColorTarget::opaque(VISIBILITY_FORMAT), ColorTarget::opaque(crate::COLOR_FORMAT)];
+        let targets = [ColorTarget::opaque(VISIBILITY_FORMAT), ColorTarget::opaque(crate::targets::COLOR_FORMAT)];
         desc.color_targets = &targets;
         let classify = GraphicsPipeline::new(ctx, layout, &desc)?;
 

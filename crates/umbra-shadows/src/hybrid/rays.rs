@@ -122,7 +122,7 @@ impl HybridRays {
         let mut desc = forward::surface_pass_desc("hybrid classify (rays)", frag, depth_format, &spec);
         let targets = [
             ColorTarget::opaque(VISIBILITY_FORMAT),
-            ColorTarget::opaque(crate::COLOR_FORMAT),
+            ColorTarget::opaque(crate::targets::COLOR_FORMAT),
             ColorTarget::opaque(PIXEL_RAYS_FORMAT),
         ];
         desc.color_targets = &targets;

@@ -9,10 +9,10 @@
 
 use super::{BvhInstance, BvhLayout, BvhNode, RayScene, MAX_STACK};
 use crate::forward::{self, Bounded, PassBounds};
+use crate::frame::timing::PassLog;
 use crate::gpu_scene::{DrawPush, GpuScene};
 use crate::retired::Retired;
 use crate::streams::Streams;
-use crate::timing::PassLog;
 use crate::visibility::VISIBILITY_FORMAT;
 use crate::{RenderError, RenderResult};
 use umbra_scene::Scene;

@@ -198,7 +198,7 @@ impl RayStats {
         scene: &Scene,
         light: u32,
         bounds: PassBounds,
-        log: &mut crate::timing::PassLog,
+        log: &mut crate::frame::timing::PassLog,
     ) {
         let Some(c) = &self.counters else { return };
         self.surfaces.bind(rec, bounds);

@@ -8,6 +8,7 @@
 use super::lights::{LightBindings, LightFrame, LightQueries};
 use super::Renderer;
 use crate::forward::PassBounds;
+use crate::frame::timing::PassLog;
 use crate::frame::{PassId, QueryId, Stage, Use};
 use crate::gpu_scene::GpuScene;
 use crate::hybrid::cull::CullingPlan;
@@ -18,7 +19,6 @@ use crate::plan::{tally, CullReason};
 use crate::shadow_volume::build::LightVolumes;
 use crate::shadow_volume::gpu_frame::{GpuDraws, GpuVolumes, SlotVolumes};
 use crate::shadow_volume::pass::VolumeBindings;
-use crate::timing::PassLog;
 use crate::RenderResult;
 use umbra_scene::Scene;
 use umbra_vk::{

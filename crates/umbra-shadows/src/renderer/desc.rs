@@ -1,23 +1,21 @@
 //! What a renderer is created with ([`RendererDesc`]), what a frame returns ([`Frame`]), and the
 //! frame-sized targets checked against the device before anything is made.
 
-use crate::auto::AutoPolicy;
 use crate::budget::DEFAULT_SHADOW_MAP_BUDGET;
 use crate::diagnostics::{GBuffer, LightDiagnostics};
 use crate::gbuffer;
 use crate::hybrid::pass as hybrid_pass;
 use crate::hybrid::{HybridSettings, MaskKind};
+use crate::plan::auto::AutoPolicy;
 use crate::ray_traced::BvhLayout;
 use crate::report::FrameReport;
 use crate::shadow_map::ShadowMapSettings;
 use crate::shadow_volume::ShadowVolumeSettings;
+use crate::targets::{depth_desc, COLOR_FORMAT};
 use crate::visibility::VisibilityImage;
 use crate::{RenderError, RenderResult};
 use std::path::Path;
 use umbra_vk::{vk, Context, Image, ImageDesc};
-
-/// The colour target format: linear 8-bit RGBA (values are written as computed, no sRGB curve).
-pub const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
 
 /// What a renderer renders into, and how its techniques are set up.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -37,7 +35,7 @@ pub struct RendererDesc {
     /// binary (the default) or compressed wide (CWBVH). Both give the same images; which
     /// walks faster is measured in `docs/techniques/ray-traced.md`.
     pub bvh: BvhLayout,
-    /// How lights whose technique is `auto` choose theirs (`crate::auto`): `None` (the
+    /// How lights whose technique is `auto` choose theirs (`crate::plan::auto`): `None` (the
     /// default), [`AutoPolicy::for_device`] of the renderer's device.
     pub auto: Option<AutoPolicy>,
     /// Render the diagnostic views of every light ([`Frame::diagnostics`]: its per-pixel
@@ -171,12 +169,6 @@ pub(crate) fn frame_target(ctx: &Context, name: &str, width: u32, height: u32) -
 pub(crate) fn frame_target_desc(width: u32, height: u32) -> ImageDesc {
     let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
     ImageDesc::new_2d(COLOR_FORMAT, width, height).usage(usage)
-}
-
-/// The frame's depth/stencil target, copied out for stencil diagnostics.
-pub(crate) fn depth_desc(format: vk::Format, width: u32, height: u32) -> ImageDesc {
-    let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
-    ImageDesc::new_2d(format, width, height).usage(usage)
 }
 
 /// Checks `desc`'s size against every limit of the frame-sized images the renderer may create

@@ -31,7 +31,7 @@ impl FrameView {
 
     /// The camera's depth precision at the farthest corner of any object's bounds, where it is
     /// coarser than where shadow volumes are measured exact (`View::depth_precision`).
-    pub fn depth_precision(&self) -> Option<crate::plan::DepthPrecision> {
+    pub fn depth_precision(&self) -> Option<crate::view::DepthPrecision> {
         let eye = self.view.position;
         let farthest = |b: &Aabb| (b.min - eye).abs().max((b.max - eye).abs()).length();
         let reach = self.boxes.iter().flatten().map(farthest).fold(0.0, f32::max);

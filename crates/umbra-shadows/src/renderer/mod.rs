@@ -20,7 +20,7 @@ mod record;
 mod results;
 mod slot;
 
-pub use desc::{Frame, RendererDesc, COLOR_FORMAT};
+pub use desc::{Frame, RendererDesc};
 pub(crate) use engine::{EngineDepth, FrameDepth, RecordedLight};
 pub(crate) use slot::FrameSlot;
 
@@ -39,9 +39,9 @@ use crate::shadow_map::pass::{self, ShadowMapPass};
 use crate::shadow_volume::pass::{ShadowVolumePass, VolumeInput};
 use crate::shadow_volume::FarPlane;
 use crate::silhouette_map::pass::SilhouetteMapPass;
+use crate::targets::{depth_desc, COLOR_FORMAT};
 use crate::visibility::{self, VisibilityPass};
 use crate::{RenderError, RenderResult};
-pub(crate) use desc::depth_desc;
 use desc::{check_frame_size, frame_target};
 use record::Output;
 use std::sync::Arc;
@@ -94,7 +94,7 @@ pub struct Renderer {
     geometry: Option<Arc<SceneGeometry>>,
     /// Per mesh, the engine's buffers it is copied from instead of its CPU data (engine only:
     /// `Shadows::add_mesh_buffers`).
-    pub(crate) engine_meshes: Vec<Option<crate::shadows::MeshBuffers>>,
+    pub(crate) engine_meshes: Vec<Option<crate::mesh_buffers::MeshBuffers>>,
     /// The engine's meshes that deform on the GPU (`Shadows::add_deforming_mesh`).
     pub(crate) deforming: crate::shadow_volume::deform::Deforming,
     /// The frame's host-written buffers, sets and query pools, kept between frames.

@@ -5,7 +5,7 @@
 use super::lights::{FrameView, LightFrame, MapFrame};
 use super::Renderer;
 use crate::budget::{self, ShadowStorage};
-use crate::gpu_scene::{self, GpuScene, GpuShadow};
+use crate::gpu_scene::{GpuScene, GpuShadow};
 use crate::hybrid::cull::{self, CullingPlan};
 use crate::hybrid::MaskKind;
 use crate::plan::{plan_frame, tally, CullReason, PlanInput, RayTracedReport, ShadowMapReport, SilhouetteMapReport};
@@ -90,7 +90,7 @@ impl Renderer {
             // Texels per side of one view: a face atlas's faces have their borders too.
             let side = views.kind.view_side(resolution);
             map.shadow = GpuShadow {
-                kind: gpu_scene::shadow_kind(views.kind, map.silhouette),
+                kind: views.kind.shader_kind(map.silhouette),
                 first_view: shadow_views.len() as u32,
                 normal_offset: settings.normal_offset,
                 texel: 1.0 / side as f32,
@@ -194,7 +194,19 @@ impl Renderer {
                 bytes += u64::from(crate::hybrid::bounds::LAYERS_PER_FACE) * map_bytes;
             }
             let cube = views.kind.is_cube();
-            storage.push(ShadowStorage { light: plan.light, resolution, cube, depth, silhouette, bounds, bytes });
+            // A silhouette map's cube faces carry borders in its atlas.
+            let face_side =
+                if cube && silhouette { crate::shadow_map::atlas::face_side(resolution) } else { resolution };
+            storage.push(ShadowStorage {
+                light: plan.light,
+                resolution,
+                face_side,
+                cube,
+                depth,
+                silhouette,
+                bounds,
+                bytes,
+            });
             fitted[plan.light] = Some(map_frame(views, resolution, silhouette, depth));
         }
         budget::check(&storage, self.desc.shadow_map_budget_bytes)?;

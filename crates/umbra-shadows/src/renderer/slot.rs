@@ -23,7 +23,7 @@ pub(crate) struct FrameSlot {
     /// The frame graph: its query pools and the images' states.
     pub graph: FrameGraph,
     /// The passes recorded into an engine's last frame of this slot, GPU times unread.
-    pub pending: Option<Vec<crate::timing::PassReport>>,
+    pub pending: Option<Vec<crate::frame::timing::PassReport>>,
     /// The meshes the slot's last frame drew, kept alive while the GPU may read them (a later
     /// frame may have uploaded others), and the staging buffers its upload copied from.
     geometry: Option<Arc<SceneGeometry>>,

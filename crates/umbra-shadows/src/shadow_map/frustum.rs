@@ -30,6 +30,18 @@ pub(crate) enum MapKind {
 }
 
 impl MapKind {
+    /// `GpuShadow::kind` (`gpu_scene.rs`) of a map of this kind, with or without a silhouette
+    /// map: the shaders' `SHADOW_2D` (1), `SHADOW_CUBE` (2), `SHADOW_SILHOUETTE` (3) and
+    /// `SHADOW_SILHOUETTE_CUBE` (4).
+    pub(crate) fn shader_kind(self, silhouette: bool) -> u32 {
+        match (self, silhouette) {
+            (Self::Single, false) => 1,
+            (Self::Cube, _) => 2,
+            (Self::Single, true) => 3,
+            (Self::FaceAtlas, _) => 4,
+        }
+    }
+
     /// Whether the map has six faces (a cube map or a face atlas).
     pub fn is_cube(self) -> bool {
         self != Self::Single

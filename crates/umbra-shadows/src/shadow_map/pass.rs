@@ -4,9 +4,9 @@
 use super::atlas;
 use super::frustum::{LightViews, MapKind};
 use super::settings::{ShadowFilter, ShadowMapSettings};
+use crate::frame::timing::PassLog;
 use crate::gpu_scene::{self, Bound, DrawPush, GpuScene};
 use crate::retired::Retired;
-use crate::timing::PassLog;
 use crate::{RenderError, RenderResult};
 use umbra_scene::Scene;
 use umbra_vk::{

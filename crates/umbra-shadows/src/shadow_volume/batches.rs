@@ -7,7 +7,7 @@
 //! non-zero exactly where some volume holds the pixel, which is all the visibility passes read.
 
 use super::build::{CasterVolume, LightVolumes};
-use crate::timing::PassLog;
+use crate::frame::timing::PassLog;
 use std::ops::Range;
 use umbra_vk::{vk, DepthState, GraphicsPipeline, GraphicsPipelineDesc, Recorder, StencilFace};
 

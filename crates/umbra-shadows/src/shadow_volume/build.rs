@@ -2,7 +2,7 @@
 //! uses (§3.4).
 
 use super::settings::VolumeMode;
-use crate::plan::{CasterMode, ShadowVolumeReport};
+use super::{CasterMode, ShadowVolumeReport};
 use crate::view::View;
 use glam::{Vec3, Vec4, Vec4Swizzles};
 use rayon::prelude::*;
@@ -58,7 +58,7 @@ pub(crate) struct LightVolumes {
     pub gpu: Option<(usize, Vec<super::gpu::VolumeJob>)>,
     /// The camera's depth precision where it is coarser than measured exact
     /// (`View::depth_precision`), for the report.
-    pub depth_precision: Option<crate::plan::DepthPrecision>,
+    pub depth_precision: Option<crate::view::DepthPrecision>,
 }
 
 impl LightVolumes {

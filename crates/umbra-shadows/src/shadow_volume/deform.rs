@@ -11,7 +11,7 @@
 //! and the sides and caps follow the pose as the CPU path would follow the same positions.
 
 use super::gpu::GROUP;
-use crate::shadows::VertexStream;
+use crate::mesh_buffers::VertexStream;
 use crate::RenderResult;
 use std::sync::Arc;
 use umbra_scene::Adjacency;

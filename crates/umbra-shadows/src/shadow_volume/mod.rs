@@ -20,7 +20,9 @@ pub(crate) mod deform;
 pub(crate) mod gpu;
 pub(crate) mod gpu_frame;
 pub(crate) mod pass;
+mod report;
 mod settings;
 
 pub use gpu::GpuSilhouettes;
+pub use report::{CasterMode, ShadowVolumeReport};
 pub use settings::{FarPlane, HostClip, ShadowVolumeSettings, VolumeBuild, VolumeMode};

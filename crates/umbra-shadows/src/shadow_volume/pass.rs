@@ -7,8 +7,8 @@ use super::batches::{counting_in_batch, fold_desc, record_in_batches, FULL_STENC
 use super::build::{CasterVolume, Counting, LightVolumes};
 use super::settings::{FarPlane, ShadowVolumeSettings};
 use crate::forward::{Bounded, PassBounds};
+use crate::frame::timing::PassLog;
 use crate::gpu_scene::{DrawPush, GpuScene};
-use crate::timing::PassLog;
 use crate::RenderResult;
 use umbra_vk::{
     vk, Blend, Buffer, ColorTarget, Context, DepthState, GraphicsPipeline, GraphicsPipelineDesc, PipelineLayout,
@@ -91,7 +91,7 @@ pub(crate) fn overdraw_pipeline(
     desc.fragment = Some(umbra_shaders::shadow_volume::OVERDRAW_FRAG);
     desc.stencil = None;
     desc.depth = DepthState { clamp, ..DepthState::NONE };
-    let additive = [ColorTarget { blend: Some(Blend::ADDITIVE), ..ColorTarget::opaque(crate::COLOR_FORMAT) }];
+    let additive = [ColorTarget { blend: Some(Blend::ADDITIVE), ..ColorTarget::opaque(crate::targets::COLOR_FORMAT) }];
     desc.color_targets = &additive;
     Ok(GraphicsPipeline::new(ctx, layout, &desc)?)
 }

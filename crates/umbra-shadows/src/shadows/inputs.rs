@@ -2,8 +2,8 @@
 //! anything is recorded), and what umbra hands back.
 
 use super::registry::invalid;
+use crate::frame::timing::PassReport;
 use crate::plan::LightPlan;
-use crate::timing::PassReport;
 use crate::RenderResult;
 use glam::Mat4;
 use umbra_scene::Light;

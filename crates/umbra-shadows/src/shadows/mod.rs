@@ -16,11 +16,10 @@
 //! into an image of umbra's own first ([`RebuildReason`]).
 
 mod inputs;
-pub(crate) mod mesh_buffers;
 mod registry;
 
+pub use crate::mesh_buffers::{IndexStream, MeshBuffers, VertexStream};
 pub use inputs::{DepthTarget, FrameInputs, LightShadows, RebuildReason, SampledImage, ShadowFrame, ShadowMapOutput};
-pub use mesh_buffers::{IndexStream, MeshBuffers, VertexStream};
 pub use registry::{Instance, InstanceId, MeshId};
 
 use crate::renderer::{EngineDepth, FrameDepth, FrameSlot, Renderer, RendererDesc};

@@ -5,12 +5,12 @@
 use super::edges::{EdgeInstance, LightEdges};
 use super::geometry::DEFAULT_POINT;
 use crate::forward;
+use crate::frame::timing::PassLog;
 use crate::gpu_scene::{DrawPush, GpuScene};
 use crate::retired::Retired;
 use crate::shadow_map::atlas;
 use crate::shadow_map::frustum::MapKind;
 use crate::shadow_map::ShadowMapSettings;
-use crate::timing::PassLog;
 use crate::{RenderError, RenderResult};
 use umbra_scene::Scene;
 use umbra_vk::{

@@ -1,7 +1,7 @@
 //! What each pass of a frame did: its draws, triangles and GPU time (the timestamps around it
 //! come from the frame graph, `crate::frame`).
 
-use crate::frame::PassId;
+use super::PassId;
 use serde::Serialize;
 
 /// What one recorded pass did and how long the GPU spent on it.

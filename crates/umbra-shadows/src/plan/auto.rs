@@ -14,7 +14,7 @@
 //!    where the map classifies first ([`AutoPolicy::classify_first`]) the hybrid and the
 //!    ray-traced hybrid, which run them only at the pixels the map cannot decide.
 
-use crate::plan::PlanInput;
+use super::PlanInput;
 use crate::reach;
 use crate::shadow_map::frustum;
 use glam::{Mat4, Vec4Swizzles};

@@ -16,7 +16,7 @@
 //! 5. `auto` lights get the shadow map when its texels project no larger than a pixel on every
 //!    visible receiver (Stamminger–Drettakis' ratio, Chan–Durand §6.3) and the renderer accepts
 //!    a map's accuracy, otherwise the exact technique a measured cost model finds cheapest
-//!    (`crate::auto`).
+//!    (`crate::plan::auto`).
 //!
 //! With `RendererDesc::cull` off every light records every pass of its technique over every
 //! caster: the same image, for comparison.
@@ -24,9 +24,13 @@
 //! This is also the seam where shadow techniques plug in: each light carries the technique it
 //! uses, and the renderer records that technique's passes for it.
 
+pub(crate) mod auto;
+
 use crate::hybrid::MaskKind;
 use crate::reach::{self, Clip, Planes, Unreached};
+pub use crate::shadow_volume::{CasterMode, ShadowVolumeReport};
 use crate::technique::{needs, Casters};
+pub use crate::view::DepthPrecision;
 use crate::view::View;
 use crate::RenderResult;
 use serde::Serialize;
@@ -303,95 +307,6 @@ impl RayTracedReport {
     }
 }
 
-/// A light's shadow volumes as built and counted in one frame.
-#[derive(Clone, Debug, Serialize)]
-pub struct ShadowVolumeReport {
-    /// Casters with a non-empty volume.
-    pub casters: usize,
-    /// Casters counted with z-pass.
-    pub zpass_casters: usize,
-    /// Casters counted with z-fail.
-    pub zfail_casters: usize,
-    /// Silhouette edges extruded (with multiplicity).
-    pub silhouette_edges: usize,
-    /// Volume triangles drawn (sides, plus caps for z-fail casters; after clipping, when
-    /// `host_clipped`).
-    pub volume_triangles: usize,
-    /// Whether the volumes were clipped to the view on the host before they were drawn
-    /// (`ShadowVolumeSettings::host_clip`; on drivers whose clipping is not watertight).
-    pub host_clipped: bool,
-    /// Batches the casters were counted in: 1 when their count bounds fit the count (at most
-    /// 255; 127 under the hybrid's stencil mask), else runs whose bounds fit a narrower count
-    /// (127; 63), each folded into one stencil bit before the next
-    /// (`shadow_volume/batches.rs`).
-    pub count_batches: usize,
-    /// CPU time to build every caster's volume (facing, silhouettes, caps) and, when
-    /// `host_clipped`, to clip them.
-    pub cpu_build_ms: f64,
-    /// Rasterized volume fragments (from the overdraw pass's occlusion query), when the
-    /// renderer was built with `overdraw`.
-    pub volume_fragments: Option<u64>,
-    /// Per caster: object index, name and the mode it was counted with.
-    pub caster_modes: Vec<CasterMode>,
-    /// Whether the volumes were built on the GPU (`VolumeBuild::Gpu`): the host only named the
-    /// casters (`cpu_build_ms` is the naming's time). The renderer's own frames read the
-    /// counts back from the GPU after the frame (`volume counts readback`), so `casters`,
-    /// `silhouette_edges`, `volume_triangles` and `caster_modes` are those of the CPU path;
-    /// `count_batches` is planned on the host from bounds on every named caster.
-    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
-    pub gpu_built: bool,
-    /// The camera's depth step at the scene's farthest point, where the near plane is closer
-    /// than [`umbra_scene::Camera::EXACT_NEAR_RATIO`] of that distance: volume faces and surfaces
-    /// nearer each other in depth than `step` may count on the wrong side of each other there.
-    /// `None` (and left out of the JSON) where the depth is as fine as where shadow volumes are
-    /// measured exact.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub depth_precision: Option<DepthPrecision>,
-}
-
-/// How coarse the camera's depth is at the scene's farthest point
-/// ([`ShadowVolumeReport::depth_precision`]).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct DepthPrecision {
-    /// Distance from the eye to the farthest point of any object's bounds.
-    pub distance: f32,
-    /// World distance between two adjacent depth values there.
-    pub step: f32,
-}
-
-impl DepthPrecision {
-    /// The depth step, as a fraction of the distance, at which shadow volumes are measured
-    /// exact: that of a near plane at [`umbra_scene::Camera::EXACT_NEAR_RATIO`] of the distance
-    /// (about 0.06 %). Coarser steps are reported.
-    pub const EXACT_RELATIVE_STEP: f32 = umbra_scene::Camera::DEPTH_STEP / umbra_scene::Camera::EXACT_NEAR_RATIO;
-
-    /// A one-line warning for light `light`'s shadow volumes.
-    pub fn warning(&self, light: usize) -> String {
-        format!(
-            "warning: light {light}: the camera's depth resolves {:.3e} world units ({:.2} % of the distance) at the scene's farthest point, {:.3e} away; shadow volumes are measured exact to {:.2} % (near plane {:e} of the distance): volume faces and surfaces nearer each other than that may count on the wrong side",
-            self.step,
-            100.0 * self.step / self.distance,
-            self.distance,
-            100.0 * Self::EXACT_RELATIVE_STEP,
-            umbra_scene::Camera::EXACT_NEAR_RATIO,
-        )
-    }
-}
-
-/// The counting mode one caster used.
-#[derive(Clone, Debug, Serialize)]
-pub struct CasterMode {
-    /// Object index.
-    pub object: usize,
-    /// Object name.
-    pub name: String,
-    /// `zpass` or `zfail`; `gpu` for volumes built on the GPU in `auto` mode, whose mode the
-    /// GPU decides each frame, in a frame whose counts are not read back (an engine's frame).
-    pub mode: &'static str,
-    /// Volume triangles drawn for it.
-    pub triangles: usize,
-}
-
 /// What the planner looks at besides the scene.
 pub(crate) struct PlanInput<'a> {
     /// Each object's world bounds (`Scene::object_bounds`).
@@ -476,7 +391,7 @@ fn plan_light(
         .collect();
     tally(&mut plan.culled, CullReason::NotACaster, scene.objects.iter().filter(|o| !o.casts_shadows).count());
     if l.technique == Technique::Auto {
-        let (technique, why) = crate::auto::choose(scene, i, input, &view_proj, &input.auto);
+        let (technique, why) = auto::choose(scene, i, input, &view_proj, &input.auto);
         plan.technique = technique;
         plan.auto_choice = Some(why);
     }
