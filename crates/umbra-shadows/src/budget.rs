@@ -1,7 +1,7 @@
 //! The shadow-map memory budget: what every light's shadow storage needs in one frame, summed
 //! and compared with `RendererDesc::shadow_map_budget_bytes` before any of it is allocated.
 
-pub use crate::error::ShadowStorage;
+use crate::error::ShadowStorage;
 use crate::{RenderError, RenderResult};
 
 /// The default budget: 1 GiB, ten 2048² point-light cube maps or one 16384² map.

@@ -4,7 +4,8 @@
 
 use super::lights::{FrameView, LightFrame, MapFrame};
 use super::Renderer;
-use crate::budget::{self, ShadowStorage};
+use crate::budget;
+use crate::error::ShadowStorage;
 use crate::gpu_scene::{GpuScene, GpuShadow};
 use crate::hybrid::cull::{self, CullingPlan};
 use crate::hybrid::MaskKind;
