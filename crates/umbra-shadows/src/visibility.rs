@@ -29,8 +29,9 @@ use crate::{RenderError, RenderResult};
 use std::path::Path;
 use umbra_scene::Scene;
 use umbra_vk::{
-    vk, Binding, Buffer, BufferDesc, ColorTarget, Context, DescriptorSet, DescriptorSetLayout, GraphicsPipelineDesc,
-    Image, ImageDesc, ImageState, PipelineLayout, Recorder, Resource, Sampler, SamplerDesc, StencilFace,
+    vk, Binding, Buffer, BufferDesc, Capabilities, ColorTarget, Context, DescriptorSet, DescriptorSetLayout,
+    GraphicsPipelineDesc, Image, ImageDesc, ImageState, PipelineLayout, Recorder, Resource, Sampler, SamplerDesc,
+    StencilFace,
 };
 
 /// The visibility image's format: R = visibility, G = 1 where the shadow is in question. 32-bit
@@ -103,7 +104,7 @@ pub(crate) struct VisibilityPass {
     images: Vec<Option<LightVisibility>>,
     width: u32,
     height: u32,
-    /// Whether the images are also storage images ([`crate::hybrid::rays::supported`]).
+    /// Whether the images are also storage images ([`storage_supported`]).
     storage: bool,
     /// Set 2 of an unshadowed light's lighting pass, which never reads it: a 1×1 placeholder.
     pub unshadowed_set: DescriptorSet,
@@ -114,6 +115,13 @@ pub(crate) struct VisibilityPass {
     /// Shadow volumes: where the stencil count is 0, and where it is not.
     stencil_lit: Bounded,
     stencil_shadowed: Bounded,
+}
+
+/// Whether the visibility images are also storage images a technique may write from shaders:
+/// fragment shaders store (`fragmentStoresAndAtomics`), RG32F is a storage format
+/// (`shaderStorageImageExtendedFormats`) and the graphics queue runs compute.
+pub(crate) fn storage_supported(caps: &Capabilities) -> bool {
+    caps.fragment_stores_and_atomics && caps.storage_image_extended_formats && caps.compute_queue
 }
 
 /// The layout of set 2: the visibility image, read by the lighting pass.
@@ -180,7 +188,7 @@ impl VisibilityPass {
             images: Vec::new(),
             width,
             height,
-            storage: crate::hybrid::rays::supported(ctx.capabilities()),
+            storage: storage_supported(ctx.capabilities()),
             unshadowed_set,
             _placeholder: placeholder,
             set_layout,

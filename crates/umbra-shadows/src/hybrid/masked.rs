@@ -4,7 +4,9 @@
 
 use super::pass::count_bits;
 use super::settings::{MaskKind, COUNT_BITS, DEPTH_BOUNDS_EPSILON, SILHOUETTE_BIT};
-use crate::shadow_volume::batches::{counting_in_batch, FULL_STENCIL};
+use crate::frame::timing::PassLog;
+use crate::shadow_volume::batches::{counting_in_batch, CountBits, FULL_STENCIL};
+use crate::shadow_volume::gpu_frame::{GpuDraws, GpuVolumes};
 use crate::shadow_volume::pass::{self as volume_pass, VolumeInput};
 use crate::RenderResult;
 use umbra_vk::{
@@ -171,5 +173,72 @@ impl MaskedFragments {
             }
             _ => false,
         }
+    }
+}
+
+/// Step 3 over volumes built on the GPU (`shadow_volume/gpu_frame.rs`): the masked counting
+/// and, with the overdraw diagnostic, the masked fragment counts of their sides and their
+/// caps, against the GPU draws' layout.
+pub(crate) struct GpuMasked {
+    counting: [MaskedCounting; 2],
+    fragments: Option<[MaskedFragments; 2]>,
+}
+
+impl GpuMasked {
+    /// The pipelines against `volumes`' draw layout; `clamp` mirrors the volumes'
+    /// `FarPlane::DepthClamp`, `overdraw` asks for the fragment counts.
+    pub fn new(
+        ctx: &Context,
+        volumes: &GpuVolumes,
+        depth_format: vk::Format,
+        clamp: bool,
+        overdraw: bool,
+    ) -> RenderResult<Self> {
+        // The mask needs the test wherever the device has it (not only for bounds).
+        let depth_bounds = ctx.capabilities().depth_bounds;
+        let layout = volumes.layout();
+        let inputs = [VolumeInput::GpuSides, VolumeInput::GpuCaps];
+        let counting = |input| MaskedCounting::new(ctx, layout, depth_format, clamp, depth_bounds, input);
+        let counting = [counting(inputs[0])?, counting(inputs[1])?];
+        let fragments = |input| {
+            let zfail = volume_pass::zfail_desc(depth_format, clamp, input);
+            MaskedFragments::new(ctx, layout, zfail, depth_bounds, input)
+        };
+        let fragments = match overdraw {
+            true => Some([fragments(inputs[0])?, fragments(inputs[1])?]),
+            false => None,
+        };
+        Ok(Self { counting, fragments })
+    }
+
+    /// A hybrid light's step 3 (inside its `hybrid volumes` pass): its z-fail casters' sides
+    /// and caps where the computation mask `mask` lets them through, counted in `bits` with
+    /// `fold` between batches.
+    pub fn record_counting<'a>(
+        &'a self,
+        rec: &mut Recorder<'a>,
+        volumes: &'a GpuVolumes,
+        draws: GpuDraws<'a, '_>,
+        (mask, bits): (MaskKind, CountBits),
+        fold: &'a GraphicsPipeline,
+        log: &mut PassLog,
+    ) {
+        let [sides, caps] = &self.counting;
+        volumes.record_counting(rec, draws, bits, fold, log, |rec, _, batched, is_caps| {
+            (if is_caps { caps } else { sides }).bind(rec, mask, batched);
+        });
+    }
+
+    /// A hybrid light's volume fragments the computation mask `mask` lets through (inside a
+    /// rendering pass over its count target; nothing without a mask or the diagnostic).
+    pub fn record_fragments<'a>(
+        &'a self,
+        rec: &mut Recorder<'a>,
+        volumes: &'a GpuVolumes,
+        draws: GpuDraws<'a, '_>,
+        mask: MaskKind,
+    ) {
+        let Some(fragments) = &self.fragments else { return };
+        volumes.record_every_draw(rec, draws, |rec, caps| fragments[usize::from(caps)].bind(rec, mask));
     }
 }

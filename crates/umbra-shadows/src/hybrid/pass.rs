@@ -6,7 +6,7 @@
 
 use super::bounds::BoundsPass;
 use super::cull::BOX_VERTICES;
-use super::masked::{MaskedCounting, MaskedFragments};
+use super::masked::{GpuMasked, MaskedCounting, MaskedFragments};
 use super::settings::{MaskKind, COUNT_BITS, SILHOUETTE_BIT};
 use crate::diagnostics::ClassReadback;
 use crate::forward;
@@ -65,6 +65,8 @@ pub(crate) struct HybridPass {
     resolve_count_bits: [GraphicsPipeline; 2],
     /// Diagnostic: volume fragments the mask lets through (depth and stencil untouched).
     fragments: MaskedFragments,
+    /// Step 3 and its diagnostic over volumes built on the GPU ([`Self::with_gpu_volumes`]).
+    gpu: Option<GpuMasked>,
     /// Blocker culling: bounding boxes against the shadow map.
     boxes: GraphicsPipeline,
     /// The conservative depth bounds the classification reads (`hybrid bounds N`).
@@ -195,11 +197,26 @@ impl HybridPass {
             resolve,
             resolve_count_bits,
             fragments,
+            gpu: None,
             boxes,
             bounds: BoundsPass::new(ctx, scene_set_layout)?,
             depth_format,
             targets: None,
         })
+    }
+
+    /// Step 3's pipelines over the shadow volumes built on the GPU (`volumes`), for renderers
+    /// that build them there; `clamp` as in [`Self::new`], `overdraw` adds the diagnostic's
+    /// fragment counts.
+    pub fn with_gpu_volumes(
+        mut self,
+        ctx: &Context,
+        volumes: &GpuVolumes,
+        clamp: bool,
+        overdraw: bool,
+    ) -> RenderResult<Self> {
+        self.gpu = Some(GpuMasked::new(ctx, volumes, self.depth_format, clamp, overdraw)?);
+        Ok(self)
     }
 
     /// Makes sure the frame-sized targets exist for a `width` × `height` frame (and the masked
@@ -339,7 +356,9 @@ impl HybridPass {
             }
             VolumeSource::Gpu(g, slot) => {
                 let draws = GpuDraws { gpu: h.gpu, slot, volumes: h.volumes, light: h.light as u32 };
-                g.record_hybrid(cx.rec, draws, h.mask, bits, fold, cx.log);
+                if let Some(masked) = &self.gpu {
+                    masked.record_counting(cx.rec, g, draws, (h.mask, bits), fold, cx.log);
+                }
             }
             VolumeSource::Host(None) => {}
         }
@@ -379,7 +398,9 @@ impl HybridPass {
             }
             VolumeSource::Gpu(g, slot) => {
                 let draws = GpuDraws { gpu: h.gpu, slot, volumes: h.volumes, light: h.light as u32 };
-                g.record_fragments(cx.rec, draws, h.mask);
+                if let Some(masked) = &self.gpu {
+                    masked.record_fragments(cx.rec, g, draws, h.mask);
+                }
             }
             VolumeSource::Host(None) => {}
         }

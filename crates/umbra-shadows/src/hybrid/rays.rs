@@ -36,11 +36,11 @@ const ENTRY_BYTES: u64 = 32;
 /// Bytes of the list's header: the dispatch's workgroup counts and the rays appended.
 const HEADER_BYTES: u64 = 16;
 
-/// Whether the device runs the ray-traced hybrid: fragment shaders append to the list
-/// (`fragmentStoresAndAtomics`), the rays write the RG32F visibility image
-/// (`shaderStorageImageExtendedFormats`) and the graphics queue runs compute.
+/// Whether the device runs the ray-traced hybrid: its classification appends to the list from
+/// fragment shaders and its rays write the visibility image from a compute shader on the
+/// graphics queue ([`crate::visibility::storage_supported`]).
 pub(crate) fn supported(caps: &Capabilities) -> bool {
-    caps.fragment_stores_and_atomics && caps.storage_image_extended_formats && caps.compute_queue
+    crate::visibility::storage_supported(caps)
 }
 
 /// Why the device cannot run the ray-traced hybrid (for [`crate::RenderError::UnsupportedLight`]).

@@ -67,7 +67,7 @@ pub struct Renderer {
     /// Ray-traced lights' BVH and shadow rays.
     rays: RayPass,
     /// The ray-traced hybrid's pipelines and ray list (`None` where the device cannot run it:
-    /// [`crate::hybrid::rays::supported`]).
+    /// [`crate::visibility::storage_supported`]).
     hybrid_rays: Option<HybridRays>,
     /// The shadow rays' counted twins and counters (with `diagnostics`, in umbra's own frames).
     ray_stats: Option<RayStats>,
@@ -163,6 +163,10 @@ impl Renderer {
         let clamp = desc.shadow_volume.far_plane == FarPlane::DepthClamp;
         let hybrid =
             HybridPass::new(ctx, &layout, depth_format, &scene_set_layout, &desc.shadow_map, clamp, volume_input)?;
+        let hybrid = match &gpu_volumes {
+            Some(g) => hybrid.with_gpu_volumes(ctx, g, clamp, desc.shadow_volume.overdraw)?,
+            None => hybrid,
+        };
         let rays = RayPass::new(ctx, &scene_set_layout, depth_format, bounds, desc.bvh)?;
         let hybrid_rays = match crate::hybrid::rays::supported(caps) {
             true => Some(HybridRays::new(

@@ -25,8 +25,6 @@ use super::pass::{overdraw_pipeline, Counting4, VolumeInput};
 use crate::forward::PassBounds;
 use crate::frame::timing::PassLog;
 use crate::gpu_scene::GpuScene;
-use crate::hybrid::masked::{MaskedCounting, MaskedFragments};
-use crate::hybrid::MaskKind;
 use crate::mesh_buffers::VertexStream;
 use crate::retired::Retired;
 use crate::RenderResult;
@@ -67,12 +65,6 @@ struct Written {
     readback: Option<Buffer>,
 }
 
-/// The overdraw diagnostic's pipelines of the GPU-built volumes' sides and caps.
-struct Diagnostics {
-    overdraw: [GraphicsPipeline; 2],
-    fragments: [MaskedFragments; 2],
-}
-
 /// A frame slot's set over the arrays, its jobs and what the stages write.
 pub(crate) struct SlotVolumes {
     key: (u64, u64),
@@ -85,13 +77,10 @@ pub(crate) struct GpuVolumes {
     layout: PipelineLayout,
     sides: Counting4,
     caps: Counting4,
-    /// A hybrid light's step 3 (`hybrid::masked`): its sides and its caps.
-    hybrid: [MaskedCounting; 2],
     /// `volume positions`, the deforming meshes' copy.
     deform: DeformPipeline,
-    /// With `shadow_volume.overdraw`: the overdraw image's and the hybrid's fragment counts'
-    /// pipelines, for sides and caps.
-    diagnostics: Option<Diagnostics>,
+    /// With `shadow_volume.overdraw`: the overdraw image's pipelines, for sides and caps.
+    overdraw: Option<[GraphicsPipeline; 2]>,
     arrays: Option<Arrays>,
     written: Option<Written>,
     /// Counts new arrays or written buffers (a slot's set over older ones is made again).
@@ -119,30 +108,26 @@ impl GpuVolumes {
             PipelineLayout::new(ctx, "gpu shadow volume draws", &[scene_set_layout, stages.set_layout()], push)?;
         let sides = Counting4::new(ctx, &layout, depth_format, clamp, depth_bounds, VolumeInput::GpuSides)?;
         let caps = Counting4::new(ctx, &layout, depth_format, clamp, depth_bounds, VolumeInput::GpuCaps)?;
-        // The hybrid's mask needs the test wherever the device has it (not only for bounds).
-        let has_bounds = ctx.capabilities().depth_bounds;
-        let masked = |input| MaskedCounting::new(ctx, &layout, depth_format, clamp, has_bounds, input);
-        let hybrid = [masked(VolumeInput::GpuSides)?, masked(VolumeInput::GpuCaps)?];
         let deform = DeformPipeline::new(ctx)?;
-        let diagnostics = match overdraw {
+        let overdraw = match overdraw {
             true => {
                 let image = |name, input| overdraw_pipeline(ctx, &layout, name, clamp, input);
-                let fragments = |input| {
-                    let zfail = super::pass::zfail_desc(depth_format, clamp, input);
-                    MaskedFragments::new(ctx, &layout, zfail, has_bounds, input)
-                };
-                Some(Diagnostics {
-                    overdraw: [
-                        image("gpu shadow volume sides overdraw", VolumeInput::GpuSides)?,
-                        image("gpu shadow volume caps overdraw", VolumeInput::GpuCaps)?,
-                    ],
-                    fragments: [fragments(VolumeInput::GpuSides)?, fragments(VolumeInput::GpuCaps)?],
-                })
+                Some([
+                    image("gpu shadow volume sides overdraw", VolumeInput::GpuSides)?,
+                    image("gpu shadow volume caps overdraw", VolumeInput::GpuCaps)?,
+                ])
             }
             false => None,
         };
         let (arrays, written, generation) = (None, None, 0);
-        Ok(Self { stages, layout, sides, caps, hybrid, deform, diagnostics, arrays, written, generation, read_counts })
+        Ok(Self { stages, layout, sides, caps, deform, overdraw, arrays, written, generation, read_counts })
+    }
+
+    /// The layout of every GPU-built volume draw (the scene's set, the stages' set, the job's
+    /// push constants): pipelines drawn by [`Self::record_counting`] and
+    /// [`Self::record_every_draw`] are built against it.
+    pub fn layout(&self) -> &PipelineLayout {
+        &self.layout
     }
 
     /// Every mesh's place in the arrays (after [`Self::prepare`]).
@@ -335,45 +320,20 @@ impl GpuVolumes {
         });
     }
 
-    /// A hybrid light's step 3 (Chan–Durand §4, inside its `hybrid volumes` pass): its z-fail
-    /// casters' sides and caps where the computation mask `mask` lets them through, counted in
-    /// `bits` with `fold` between batches.
-    #[allow(clippy::too_many_arguments)]
-    pub fn record_hybrid<'a>(
-        &'a self,
-        rec: &mut Recorder<'a>,
-        draws: GpuDraws<'a, '_>,
-        mask: MaskKind,
-        bits: CountBits,
-        fold: &'a GraphicsPipeline,
-        log: &mut PassLog,
-    ) {
-        let [sides, caps] = &self.hybrid;
-        self.record_counting(rec, draws, bits, fold, log, |rec, _, batched, is_caps| {
-            (if is_caps { caps } else { sides }).bind(rec, mask, batched);
-        });
-    }
-
     /// The overdraw image's draws of a light's volumes (inside a rendering pass over the
     /// overdraw target; built with `overdraw`): every caster's sides and caps as drawn.
     pub fn record_overdraw<'a>(&'a self, rec: &mut Recorder<'a>, draws: GpuDraws<'a, '_>) {
-        let Some(d) = &self.diagnostics else { return };
+        let Some(overdraw) = &self.overdraw else { return };
         self.record_every_draw(rec, draws, |rec, caps| {
-            rec.bind_pipeline(&d.overdraw[usize::from(caps)]);
+            rec.bind_pipeline(&overdraw[usize::from(caps)]);
             true
         });
     }
 
-    /// A hybrid light's volume fragments the computation mask `mask` lets through (inside a
-    /// rendering pass over its count target, built with `overdraw`; nothing without a mask).
-    pub fn record_fragments<'a>(&'a self, rec: &mut Recorder<'a>, draws: GpuDraws<'a, '_>, mask: MaskKind) {
-        let Some(d) = &self.diagnostics else { return };
-        self.record_every_draw(rec, draws, |rec, caps| d.fragments[usize::from(caps)].bind(rec, mask));
-    }
-
     /// Every caster's sides (both modes' draws: one has no vertices) and caps, in one batch,
-    /// each part's pipeline bound by `bind(rec, caps)` (false: the part is not drawn).
-    fn record_every_draw<'a>(
+    /// each part's pipeline bound by `bind(rec, caps)` (false: the part is not drawn; a
+    /// pipeline bound must be built against [`Self::layout`]).
+    pub fn record_every_draw<'a>(
         &'a self,
         rec: &mut Recorder<'a>,
         draws: GpuDraws<'a, '_>,
@@ -391,8 +351,9 @@ impl GpuVolumes {
     /// Per batch of `draws`' casters, z-fail sides and caps, then z-pass sides, each drawn
     /// indirectly for every caster that may count in that mode (its mode asked for, or
     /// decided on the GPU: then the other mode's draws have no vertices), each part's
-    /// pipeline and dynamic state bound by `bind(rec, counting, batched, caps)`.
-    fn record_counting<'a>(
+    /// pipeline and dynamic state bound by `bind(rec, counting, batched, caps)` (built against
+    /// [`Self::layout`]). The hybrid counts its masked volumes through here.
+    pub fn record_counting<'a>(
         &'a self,
         rec: &mut Recorder<'a>,
         draws: GpuDraws<'a, '_>,
