@@ -29,7 +29,7 @@ use winit::window::{Window, WindowId};
 /// Shadow-map sizes `M` cycles through (`None`: the example's own).
 const MAP_SIZES: [Option<u32>; 5] = [Some(512), Some(1024), Some(2048), Some(4096), None];
 /// Techniques of keys 1–4: umbra's one table, in its order.
-const TECHNIQUES: [Technique; 6] = Technique::SHADOWING;
+const TECHNIQUES: &[Technique] = &Technique::SHADOWING;
 /// How often the title is refreshed.
 const TITLE_EVERY: Duration = Duration::from_millis(500);
 

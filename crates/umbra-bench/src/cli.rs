@@ -64,9 +64,8 @@ struct SweepArgs {
     /// $UMBRA_ASSETS when set).
     #[arg(long, value_delimiter = ',', default_value = "cubes,cage,tree,cylinder")]
     scenes: Vec<String>,
-    /// Techniques: sm (shadow map), silmap (silhouette map), sv (shadow volumes), hybrid, rt (ray
-    /// traced), hybrid-rt (the ray-traced hybrid).
-    #[arg(long, value_delimiter = ',', default_value = "sm,silmap,sv,hybrid,rt,hybrid-rt")]
+    /// Techniques, by short name (every technique that shadows a light by default).
+    #[arg(long, value_delimiter = ',', default_values_t = sweep::short_names())]
     techniques: Vec<String>,
     /// Shadow-map sizes (sm, silmap, hybrid), each at least 64.
     #[arg(long, value_delimiter = ',', default_value = "256,512,1024,2048,4096", value_parser = crate::sm_size_parser())]

@@ -14,8 +14,8 @@ pub struct FrameCostArgs {
     /// Scenes: procedural names, scene files or glTF paths.
     #[arg(long, value_delimiter = ',', default_value = "cubes,tree,sixteen-bunnies.toml")]
     scenes: Vec<String>,
-    /// Techniques (short names): sm, silmap, sv, hybrid, rt, hybrid-rt.
-    #[arg(long, value_delimiter = ',', default_value = "sm,silmap,sv,hybrid,rt,hybrid-rt")]
+    /// Techniques, by short name (every technique that shadows a light by default).
+    #[arg(long, value_delimiter = ',', default_values_t = crate::sweep::short_names())]
     techniques: Vec<String>,
     /// Image size, WIDTHxHEIGHT.
     #[arg(long, default_value = "512x384", value_parser = crate::parse_size)]

@@ -29,11 +29,16 @@ pub struct Plan {
 }
 
 /// The techniques a sweep measures, by their short names ([`Technique::short`]).
-pub const TECHNIQUES: [Technique; 6] = Technique::SHADOWING;
+pub const TECHNIQUES: &[Technique] = &Technique::SHADOWING;
+
+/// The short names of [`TECHNIQUES`], in order: the sweep's and frame cost's default.
+pub fn short_names() -> Vec<String> {
+    TECHNIQUES.iter().map(|t| t.short().to_owned()).collect()
+}
 
 /// The swept technique of a short name.
 pub fn technique(short: &str) -> Option<Technique> {
-    TECHNIQUES.into_iter().find(|t| t.short() == short)
+    TECHNIQUES.iter().copied().find(|t| t.short() == short)
 }
 
 impl Plan {

@@ -146,7 +146,7 @@ pub fn run_case(ctx: &Context, dir: &Path, case: &Case, size: (u32, u32)) -> Con
         (Outcome::Judged(_), Err(source)) => return Err(ConformanceError::Scene { case: case.file.into(), source }),
         (Outcome::Judged(_), Ok(scene)) => {
             let bvh = SceneBvh::build(&scene);
-            for technique in TECHNIQUES {
+            for &technique in TECHNIQUES {
                 let expect = case.expect(technique).unwrap_or(Expect::Strict);
                 run.techniques.push(run_technique(ctx, &scene, &bvh, technique, expect, size)?);
             }

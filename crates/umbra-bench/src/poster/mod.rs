@@ -97,7 +97,7 @@ pub fn bench_command(args: &PosterArgs, depth_bounds: bool) -> String {
         "umbra-bench sweep --scenes {} --techniques {} --sm-sizes {} --filters {} --masks {} --size {}x{} \
          --frames {} --warmup {}{}{}",
         args.scene,
-        sweep::TECHNIQUES.map(Technique::short).join(","),
+        sweep::TECHNIQUES.iter().map(|t| t.short()).collect::<Vec<_>>().join(","),
         args.sm_size,
         args.filter.name(),
         mask.name(),

@@ -16,7 +16,7 @@
 
 use super::PlanInput;
 use crate::reach;
-use crate::shadow_map::frustum;
+use crate::shadow_map::{frustum, texels};
 use glam::{Mat4, Vec4Swizzles};
 use umbra_scene::{Scene, Technique};
 use umbra_vk::Capabilities;
@@ -104,11 +104,11 @@ pub(crate) fn choose(
     if policy.accuracy == AutoAccuracy::Exact {
         return exact();
     }
-    let seen = frustum::Seen { view: input.view, height: input.size.1 };
+    let seen = texels::Seen { view: input.view, height: input.size.1 };
     let resolution = l
         .shadow_map_size
         .or(input.map_resolution)
-        .unwrap_or_else(|| frustum::resolution_from_frame(&views, seen, input.size.0));
+        .unwrap_or_else(|| texels::resolution_from_frame(&views, seen, input.size.0));
     match worst_texel(scene, light, input, &views.views, resolution) {
         Some((ratio, o)) if ratio > 1.0 => {
             let (technique, why) = exact();
@@ -138,7 +138,7 @@ fn worst_texel(
     /// Grid points per box side.
     const SAMPLES: usize = 6;
     let l = &scene.lights[light];
-    let seen = frustum::Seen { view: input.view, height: input.size.1 };
+    let seen = texels::Seen { view: input.view, height: input.size.1 };
     let reached = scene.objects.iter().enumerate().filter_map(|(o, object)| {
         let b = input.boxes.get(o).copied().flatten()?;
         (object.receives_shadows && reach::light_reaches(l, &b, 0.0).is_ok()).then_some((o, b))
@@ -146,7 +146,7 @@ fn worst_texel(
     let mut worst: Option<(f32, usize)> = None;
     seen.for_grid(reached, SAMPLES, |o, p| {
         let lit = l.bounded_range().is_none_or(|r| p.distance(l.position.xyz()) < r);
-        let Some(texel) = frustum::texel_at(views, p, resolution).filter(|_| lit) else { return };
+        let Some(texel) = texels::texel_at(views, p, resolution).filter(|_| lit) else { return };
         let ratio = texel / seen.pixel_at(p);
         if worst.is_none_or(|(w, _)| ratio > w) {
             worst = Some((ratio, o));

@@ -25,8 +25,8 @@ pub(super) struct FrameView {
 
 impl FrameView {
     /// What its camera sees, for a frame of `height` pixel rows.
-    pub fn seen(&self, height: u32) -> crate::shadow_map::frustum::Seen<'_> {
-        crate::shadow_map::frustum::Seen { view: &self.view, height }
+    pub fn seen(&self, height: u32) -> crate::shadow_map::texels::Seen<'_> {
+        crate::shadow_map::texels::Seen { view: &self.view, height }
     }
 
     /// The camera's depth precision at the farthest corner of any object's bounds, where it is

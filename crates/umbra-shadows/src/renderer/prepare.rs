@@ -10,7 +10,8 @@ use crate::gpu_scene::{GpuScene, GpuShadow};
 use crate::hybrid::cull::{self, CullingPlan};
 use crate::hybrid::MaskKind;
 use crate::plan::{plan_frame, tally, CullReason, PlanInput, RayTracedReport, ShadowMapReport, SilhouetteMapReport};
-use crate::shadow_map::frustum::{self, LightViews};
+use crate::shadow_map::frustum::LightViews;
+use crate::shadow_map::texels;
 use crate::shadow_map::DepthBias;
 use crate::shadow_volume::build::{self as volumes};
 use crate::shadow_volume::clip;
@@ -104,7 +105,7 @@ impl Renderer {
                 near: views.near,
                 far: views.far,
                 casters: views.casters.len(),
-                texel_size: (source.position.w == 0.0).then(|| frustum::texel_size(views.views[0], resolution)),
+                texel_size: (source.position.w == 0.0).then(|| texels::texel_size(views.views[0], resolution)),
                 receiver_texel_size: self.grid_samples.receiver_texel_size(l, views, side, seen),
                 view_proj: views.views.clone(),
                 view_texels: side,
@@ -127,7 +128,7 @@ impl Renderer {
                 (None, false) => None,
             };
             if let (Some(texels), true) = (clamp_texels, self.ctx.capabilities().depth_bias_clamp) {
-                map.bias_clamp = frustum::bias_clamp(views.views[0], side, texels);
+                map.bias_clamp = texels::bias_clamp(views.views[0], side, texels);
             }
             shadow_views.extend_from_slice(&views.views);
             light.map = Some(map);

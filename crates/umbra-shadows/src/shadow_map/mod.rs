@@ -18,5 +18,6 @@ mod kept;
 pub(crate) mod pass;
 pub(crate) mod samples;
 mod settings;
+pub(crate) mod texels;
 
 pub use settings::{DepthBias, ShadowFilter, ShadowMapSettings};

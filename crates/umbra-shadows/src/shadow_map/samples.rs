@@ -1,6 +1,6 @@
 //! The receivers' grid samples of a light's map kept from the frame that took them.
 //!
-//! [`frustum::texel_pixel_ratio`] (a map's default size) and [`frustum::receiver_texel_size`]
+//! [`texels::texel_pixel_ratio`] (a map's default size) and [`texels::receiver_texel_size`]
 //! (the report's texel size) sample 512 points per visible receiver box: about 2 ms a frame
 //! for 64 instances on 2 cores, the last host cost that grew with the scene (#26). Their answer
 //! depends only on the light's views, the receivers' seen boxes, the camera and the frame's
@@ -8,8 +8,9 @@
 //! moved for is not sampled again, any change samples it anew, so the answer is always the one
 //! sampling would give.
 
-use super::frustum::{self, LightViews, Seen};
+use super::frustum::LightViews;
 use super::kept::Kept;
+use super::texels::{self, Seen};
 use glam::Mat4;
 use umbra_scene::Aabb;
 
@@ -70,16 +71,16 @@ impl GridSamples {
         }
     }
 
-    /// [`frustum::resolution_from_frame`] of `light`'s `views`, sampled only when its inputs
+    /// [`texels::resolution_from_frame`] of `light`'s `views`, sampled only when its inputs
     /// changed.
     pub fn resolution_from_frame(&mut self, light: usize, views: &LightViews, seen: Seen<'_>, width: u32) -> u32 {
-        let reference = frustum::REFERENCE_RESOLUTION;
+        let reference = texels::REFERENCE_RESOLUTION;
         let mut current = std::mem::take(&mut self.current);
         current.fill(&views.views, &views.receivers, seen, reference);
         let mut missed = false;
         let ratio = Kept::answer(&mut self.light(light).ratio, &mut current.0, || {
             missed = true;
-            frustum::texel_pixel_ratio(views, reference, seen)
+            texels::texel_pixel_ratio(views, reference, seen)
         });
         self.current = current;
         if missed {
@@ -88,7 +89,7 @@ impl GridSamples {
         crate::ShadowMapSettings::resolution_from_frame(ratio, reference, width, seen.height)
     }
 
-    /// [`frustum::receiver_texel_size`] of `light`'s `views` at `resolution`, sampled only
+    /// [`texels::receiver_texel_size`] of `light`'s `views` at `resolution`, sampled only
     /// when its inputs changed.
     pub fn receiver_texel_size(
         &mut self,
@@ -102,7 +103,7 @@ impl GridSamples {
         let mut missed = false;
         let range = Kept::answer(&mut self.light(light).texels, &mut current.0, || {
             missed = true;
-            frustum::receiver_texel_size(&views.views, &views.receivers, resolution, seen)
+            texels::receiver_texel_size(&views.views, &views.receivers, resolution, seen)
         });
         self.current = current;
         if missed {
@@ -126,7 +127,7 @@ mod tests {
     fn light_views(sun: Vec3, receivers: Vec<Aabb>) -> LightViews {
         let view = Mat4::look_at_rh(sun, Vec3::ZERO, Vec3::Z);
         LightViews {
-            kind: frustum::MapKind::Single,
+            kind: crate::shadow_map::frustum::MapKind::Single,
             views: vec![Mat4::orthographic_rh(-8.0, 8.0, -8.0, 8.0, 0.0, 40.0) * view],
             near: 0.0,
             far: 40.0,
@@ -140,8 +141,8 @@ mod tests {
     fn agree(cache: &mut GridSamples, light: usize, views: &LightViews, eye: Vec3, height: u32) {
         let view = camera(eye);
         let seen = Seen { view: &view, height };
-        let fresh_size = frustum::resolution_from_frame(views, seen, height * 4 / 3);
-        let fresh_texels = frustum::receiver_texel_size(&views.views, &views.receivers, 512, seen);
+        let fresh_size = texels::resolution_from_frame(views, seen, height * 4 / 3);
+        let fresh_texels = texels::receiver_texel_size(&views.views, &views.receivers, 512, seen);
         assert_eq!(cache.resolution_from_frame(light, views, seen, height * 4 / 3), fresh_size);
         let kept = cache.receiver_texel_size(light, views, 512, seen);
         assert_eq!(kept.map(|r| r.map(f32::to_bits)), fresh_texels.map(|r| r.map(f32::to_bits)));
