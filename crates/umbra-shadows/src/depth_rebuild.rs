@@ -6,9 +6,10 @@
 //! so that their EQUAL tests stay exact. It costs one depth-only pass over the scene and one
 //! frame-sized depth/stencil image (`docs/embedding.md`).
 
-use crate::forward::{draw_objects, surface_pass_desc};
+use crate::forward::surface_pass_desc;
 use crate::frame::timing::PassLog;
 use crate::gpu_scene::GpuScene;
+use crate::light_surfaces::draw_objects;
 use crate::RenderResult;
 use umbra_scene::Scene;
 use umbra_vk::{

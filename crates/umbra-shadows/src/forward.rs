@@ -7,7 +7,9 @@
 //! that side. The shadow filter and out-of-frustum policy are specialization constants.
 
 use crate::frame::timing::PassLog;
-use crate::gpu_scene::{self, Bound, DrawPush, GpuScene};
+use crate::frame::PassRecorder;
+use crate::gpu_scene::{self, GpuScene};
+use crate::light_surfaces::{LightSurfaces, PassBounds};
 use crate::shadow_map::ShadowMapSettings;
 use crate::RenderResult;
 use umbra_scene::Scene;
@@ -15,25 +17,6 @@ use umbra_vk::{
     vk, Blend, ColorTarget, Context, DepthState, DescriptorSet, GraphicsPipeline, GraphicsPipelineDesc, PipelineLayout,
     Recorder,
 };
-
-/// Where a bounded light's passes may draw (`LightPlan::scissor`, `LightPlan::depth_bounds`).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub(crate) struct PassBounds {
-    pub scissor: Option<[u32; 4]>,
-    pub depth: Option<[f32; 2]>,
-}
-
-impl PassBounds {
-    /// Sets the scissor and, for a pipeline with the depth-bounds test, the bounds.
-    pub fn apply(&self, rec: &mut Recorder<'_>, depth_tested: bool) {
-        if let Some(rect) = self.scissor {
-            rec.set_scissor(rect);
-        }
-        if let (Some([min, max]), true) = (self.depth, depth_tested) {
-            rec.set_depth_bounds(min, max);
-        }
-    }
-}
 
 /// A pipeline and, when the device has `depthBounds` and the renderer culls, its twin with the
 /// depth-bounds test on (for bounded lights).
@@ -140,48 +123,40 @@ impl Forward {
         log: &mut PassLog,
     ) {
         rec.bind_pipeline(&self.ambient);
-        draw_objects(rec, layout, gpu, scene, 0, log);
+        crate::light_surfaces::draw_objects(rec, layout, gpu, scene, 0, log);
     }
 
-    /// Draws every object lit by light `light` (inside an open rendering pass), within
-    /// `bounds`: with `shadowed`, times the visibility image `visibility` binds (in
+    /// Draws every object lit by the light of `s` (inside an open rendering pass), within its
+    /// bounds: with `shadowed`, times the visibility image `visibility` binds (in
     /// [`umbra_vk::ImageState::FragmentRead`]); without, unshadowed (`visibility` then binds a
     /// placeholder).
-    #[allow(clippy::too_many_arguments)]
     pub fn record_light<'a>(
         &'a self,
-        rec: &mut Recorder<'a>,
+        cx: &mut PassRecorder<'_, 'a>,
         layout: &'a PipelineLayout,
-        gpu: &'a GpuScene,
+        s: LightSurfaces<'a, '_>,
         (visibility, shadowed): (&'a DescriptorSet, bool),
-        scene: &Scene,
-        light: u32,
-        bounds: PassBounds,
-        log: &mut PassLog,
     ) {
-        (if shadowed { &self.light } else { &self.unshadowed }).bind(rec, bounds);
-        rec.bind_descriptor_set(layout, 2, visibility);
-        draw_objects(rec, layout, gpu, scene, light, log);
+        (if shadowed { &self.light } else { &self.unshadowed }).bind(cx.rec, s.bounds);
+        cx.rec.bind_descriptor_set(layout, 2, visibility);
+        s.draw(cx, layout);
     }
 
-    /// Draws every object's class under light `light` (inside an open rendering pass with one
-    /// RGBA8 target): the decisions its visibility pass makes, written as colours.
-    /// Nothing is drawn when the pipelines were built without diagnostics.
-    #[allow(clippy::too_many_arguments)]
+    /// Draws every object's class under the light of `s` (inside an open rendering pass with
+    /// one RGBA8 target, over the whole frame: its bounds are not applied): the decisions its
+    /// visibility pass makes, written as colours. Nothing is drawn when the pipelines were
+    /// built without diagnostics.
     pub fn record_classes<'a>(
         &'a self,
-        rec: &mut Recorder<'a>,
+        cx: &mut PassRecorder<'_, 'a>,
         layout: &'a PipelineLayout,
-        gpu: &'a GpuScene,
+        s: LightSurfaces<'a, '_>,
         shadow_set: &'a DescriptorSet,
-        scene: &Scene,
-        light: u32,
-        log: &mut PassLog,
     ) {
         let Some(classes) = &self.classes else { return };
-        rec.bind_pipeline(classes);
-        rec.bind_descriptor_set(layout, 1, shadow_set);
-        draw_objects(rec, layout, gpu, scene, light, log);
+        cx.rec.bind_pipeline(classes);
+        cx.rec.bind_descriptor_set(layout, 1, shadow_set);
+        s.draw(cx, layout);
     }
 }
 
@@ -209,24 +184,4 @@ pub(crate) fn surface_pass_desc<'a>(
     desc.depth = DepthState { write: false, compare: vk::CompareOp::EQUAL, ..DepthState::TEST_AND_WRITE };
     desc.depth_format = depth_format;
     desc
-}
-
-/// Draws every object with the bound pipeline, light index `light` in the push constants.
-pub(crate) fn draw_objects<'a>(
-    rec: &mut Recorder<'a>,
-    layout: &'a PipelineLayout,
-    gpu: &'a GpuScene,
-    scene: &Scene,
-    light: u32,
-    log: &mut PassLog,
-) {
-    rec.bind_descriptor_set(layout, 0, &gpu.frame.set);
-    let mut bound = Bound::Nothing;
-    for (i, o) in scene.objects.iter().enumerate() {
-        if gpu.geometry.drawable(o.mesh).is_none() {
-            continue;
-        }
-        rec.push_constants(layout, &DrawPush { object: i as u32, view: light });
-        log.count_draw(gpu.geometry.draw(rec, o.mesh, 2, &mut bound));
-    }
 }

@@ -5,7 +5,7 @@
 //! passes shaded.
 
 use crate::diagnostics::GBuffer;
-use crate::forward::{self, surface_pass_desc};
+use crate::forward::surface_pass_desc;
 use crate::frame::{PassRecorder, Use};
 use crate::gpu_scene::GpuScene;
 use crate::RenderResult;
@@ -81,7 +81,7 @@ impl GBufferPass {
             [ColorAttachment { image: p, clear: Some([0.0; 4]) }, ColorAttachment { image: n, clear: Some([0.0; 4]) }];
         cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(DepthAttachment::keep(depth)) });
         cx.rec.bind_pipeline(&self.pipeline);
-        forward::draw_objects(cx.rec, layout, gpu, scene, 0, cx.log);
+        crate::light_surfaces::draw_objects(cx.rec, layout, gpu, scene, 0, cx.log);
         cx.rec.end_rendering();
         cx.enter(&[(p, ImageState::TransferSrc), (n, ImageState::TransferSrc)]);
         cx.rec.copy_image_to_buffer(p, 0, &self.position_readback);

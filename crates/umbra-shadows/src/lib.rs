@@ -21,6 +21,7 @@ mod frame;
 mod gbuffer;
 mod gpu_scene;
 pub mod hybrid;
+mod light_surfaces;
 mod mesh_buffers;
 mod mesh_cache;
 pub mod plan;

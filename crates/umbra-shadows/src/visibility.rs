@@ -20,18 +20,16 @@
 //! records umbra's shadows before its own lighting; RG32F keeps the filtered fractions exact,
 //! so the lighting is bit for bit what it was when each pass did its own lookup.
 
-use crate::forward::{self, Bounded, PassBounds};
-use crate::frame::timing::PassLog;
-use crate::gpu_scene::GpuScene;
+use crate::forward::{self, Bounded};
+use crate::frame::PassRecorder;
+use crate::light_surfaces::LightSurfaces;
 use crate::retired::Retired;
 use crate::shadow_map::ShadowMapSettings;
 use crate::{RenderError, RenderResult};
 use std::path::Path;
-use umbra_scene::Scene;
 use umbra_vk::{
     vk, Binding, Buffer, BufferDesc, Capabilities, ColorTarget, Context, DescriptorSet, DescriptorSetLayout,
-    GraphicsPipelineDesc, Image, ImageDesc, ImageState, PipelineLayout, Recorder, Resource, Sampler, SamplerDesc,
-    StencilFace,
+    GraphicsPipelineDesc, Image, ImageDesc, ImageState, PipelineLayout, Resource, Sampler, SamplerDesc, StencilFace,
 };
 
 /// The visibility image's format: R = visibility, G = 1 where the shadow is in question. 32-bit
@@ -226,40 +224,30 @@ impl VisibilityPass {
 
     /// A shadow-map or silhouette-map light's visibility (inside an open rendering pass with the
     /// image as its one colour target), its maps bound by `shadow_set`.
-    #[allow(clippy::too_many_arguments)]
     pub fn record_map<'a>(
         &'a self,
-        rec: &mut Recorder<'a>,
+        cx: &mut PassRecorder<'_, 'a>,
         layout: &'a PipelineLayout,
-        gpu: &'a GpuScene,
+        s: LightSurfaces<'a, '_>,
         shadow_set: &'a DescriptorSet,
-        scene: &Scene,
-        light: u32,
-        bounds: PassBounds,
-        log: &mut PassLog,
     ) {
-        self.map.bind(rec, bounds);
-        rec.bind_descriptor_set(layout, 1, shadow_set);
-        forward::draw_objects(rec, layout, gpu, scene, light, log);
+        self.map.bind(cx.rec, s.bounds);
+        cx.rec.bind_descriptor_set(layout, 1, shadow_set);
+        s.draw(cx, layout);
     }
 
     /// A shadow-volume light's visibility from its stencil counts (inside an open rendering pass
     /// with the image as its colour target and the counted depth/stencil).
-    #[allow(clippy::too_many_arguments)]
     pub fn record_stencil<'a>(
         &'a self,
-        rec: &mut Recorder<'a>,
+        cx: &mut PassRecorder<'_, 'a>,
         layout: &'a PipelineLayout,
-        gpu: &'a GpuScene,
-        scene: &Scene,
-        light: u32,
-        bounds: PassBounds,
-        log: &mut PassLog,
+        s: LightSurfaces<'a, '_>,
     ) {
         for pipeline in [&self.stencil_lit, &self.stencil_shadowed] {
-            pipeline.bind(rec, bounds);
-            rec.set_stencil_reference(0);
-            forward::draw_objects(rec, layout, gpu, scene, light, log);
+            pipeline.bind(cx.rec, s.bounds);
+            cx.rec.set_stencil_reference(0);
+            s.draw(cx, layout);
         }
     }
 }

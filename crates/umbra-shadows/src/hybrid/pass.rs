@@ -16,7 +16,8 @@ use crate::retired::Retired;
 use crate::shadow_map::{self, ShadowMapSettings};
 use crate::shadow_volume::batches::{fold_desc, record_in_batches, CountBits, FULL_STENCIL};
 use crate::shadow_volume::build::LightVolumes;
-use crate::shadow_volume::gpu_frame::{GpuDraws, GpuVolumes, SlotVolumes};
+use crate::shadow_volume::frame::VolumeSource;
+use crate::shadow_volume::gpu_frame::{GpuDraws, GpuVolumes};
 use crate::shadow_volume::pass::{self as volume_pass, VolumeBindings};
 use crate::visibility::VISIBILITY_FORMAT;
 use crate::RenderResult;
@@ -251,35 +252,34 @@ impl HybridPass {
         self.targets.as_ref().map(|t| &t.classes)
     }
 
-    /// Records the box of every caster in `boxes` (a range of 36 vertices each in `vertices`)
-    /// from view `view` against `map` (a 2D shadow map in [`ImageState::DepthStencilReadOnly`]),
-    /// query `first_query + i` around box `i`.
-    #[allow(clippy::too_many_arguments)]
+    /// `blocker culling`: per light of `maps`, the box of every caster in its range (36
+    /// vertices each in `vertices`) from its map's view against its map, query
+    /// `first_query + b` around box `b`.
     pub fn record_culling<'a>(
         &'a self,
         cx: &mut PassRecorder<'_, 'a>,
         layout: &'a PipelineLayout,
         gpu: &'a GpuScene,
-        map: &'a Image,
         vertices: &'a Buffer,
-        boxes: std::ops::Range<u32>,
-        view: u32,
+        maps: &[CullingMap<'a>],
         first_query: QueryId,
     ) {
-        let depth = DepthAttachment { image: map, view: None, clear: None, clear_stencil: None, read_only: true };
-        cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(depth) });
-        cx.rec.bind_pipeline(&self.boxes);
-        cx.rec.bind_descriptor_set(layout, 0, &gpu.frame.set);
-        cx.rec.bind_vertex_buffer(vertices);
-        cx.rec.push_constants(layout, &DrawPush { object: 0, view });
-        for (i, b) in boxes.enumerate() {
-            let query = QueryId(first_query.0 + i as u32);
-            cx.begin_query(query);
-            cx.rec.draw_range(BOX_VERTICES, b * BOX_VERTICES);
-            cx.end_query(query);
-            cx.log.count_draw(u64::from(BOX_VERTICES / 3));
+        for m in maps {
+            let depth = DepthAttachment { image: m.map, view: None, clear: None, clear_stencil: None, read_only: true };
+            cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(depth) });
+            cx.rec.bind_pipeline(&self.boxes);
+            cx.rec.bind_descriptor_set(layout, 0, &gpu.frame.set);
+            cx.rec.bind_vertex_buffer(vertices);
+            cx.rec.push_constants(layout, &DrawPush { object: 0, view: m.view });
+            for b in m.boxes.clone() {
+                let query = QueryId(first_query.0 + b);
+                cx.begin_query(query);
+                cx.rec.draw_range(BOX_VERTICES, b * BOX_VERTICES);
+                cx.end_query(query);
+                cx.log.count_draw(u64::from(BOX_VERTICES / 3));
+            }
+            cx.rec.end_rendering();
         }
-        cx.rec.end_rendering();
     }
 
     /// The depth/stencil image a light with `mask` counts in: the masked copy for
@@ -303,7 +303,7 @@ impl HybridPass {
         cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(DepthAttachment::keep(h.depth)) });
         cx.rec.bind_pipeline(&self.classify);
         cx.rec.bind_descriptor_set(h.layout, 1, h.shadow_set);
-        forward::draw_objects(cx.rec, h.layout, h.gpu, h.scene, h.light as u32, cx.log);
+        crate::light_surfaces::draw_objects(cx.rec, h.layout, h.gpu, h.scene, h.light as u32, cx.log);
         cx.rec.end_rendering();
     }
 
@@ -452,25 +452,12 @@ pub(crate) struct HybridLight<'a> {
     pub mask_query: QueryId,
 }
 
-/// Where a hybrid light's volumes are drawn from.
-#[derive(Clone, Copy)]
-pub(crate) enum VolumeSource<'a> {
-    /// Built on the host: the frame's volume vertices (none when the frame has none).
-    Host(Option<&'a Buffer>),
-    /// Built on the GPU (`VolumeBuild::Gpu`): the stages' buffers and the frame slot's set.
-    Gpu(&'a GpuVolumes, &'a SlotVolumes),
-}
-
-impl<'a> VolumeSource<'a> {
-    /// What the counting draws read besides the depth/stencil: the GPU-built volumes' facing,
-    /// lists and indirect draws, and the positions where a mesh deforms on the GPU, as vertex
-    /// input.
-    pub fn reads(&self) -> Vec<crate::frame::Use<'a>> {
-        let VolumeSource::Gpu(g, _) = self else { return Vec::new() };
-        let read = |b| crate::frame::Use::Buffer(b, umbra_vk::BufferState::VertexRead);
-        let mut reads =
-            g.written().map_or_else(Vec::new, |(facing, list, draws)| vec![read(facing), read(list), read(draws)]);
-        reads.extend(g.deformed_positions().map(read));
-        reads
-    }
+/// One light's blocker boxes, tested against its shadow map.
+pub(crate) struct CullingMap<'a> {
+    /// A 2D shadow map, in [`ImageState::DepthStencilReadOnly`].
+    pub map: &'a Image,
+    /// The light's boxes in the frame's box vertices (box `b` is queried by query `b`).
+    pub boxes: std::ops::Range<u32>,
+    /// The map's view in the frame's uniforms.
+    pub view: u32,
 }

@@ -251,7 +251,7 @@ impl HybridRays {
         cx.rec.bind_pipeline(&self.classify);
         cx.rec.bind_descriptor_set(&self.classify_layout, 1, r.shadow_set);
         cx.rec.bind_descriptor_set(&self.classify_layout, 2, &list.set);
-        forward::draw_objects(cx.rec, &self.classify_layout, r.gpu, r.scene, r.light as u32, cx.log);
+        crate::light_surfaces::draw_objects(cx.rec, &self.classify_layout, r.gpu, r.scene, r.light as u32, cx.log);
         cx.rec.end_rendering();
     }
 

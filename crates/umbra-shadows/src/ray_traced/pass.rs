@@ -8,17 +8,17 @@
 //! them).
 
 use super::{BvhInstance, BvhLayout, BvhNode, RayScene, MAX_STACK};
-use crate::forward::{self, Bounded, PassBounds};
-use crate::frame::timing::PassLog;
-use crate::gpu_scene::{DrawPush, GpuScene};
+use crate::forward::{self, Bounded};
+use crate::frame::PassRecorder;
+use crate::gpu_scene::DrawPush;
+use crate::light_surfaces::LightSurfaces;
 use crate::retired::Retired;
 use crate::streams::Streams;
 use crate::visibility::VISIBILITY_FORMAT;
 use crate::{RenderError, RenderResult};
 use umbra_scene::Scene;
 use umbra_vk::{
-    vk, Binding, Buffer, BufferDesc, ColorTarget, Context, DescriptorSet, DescriptorSetLayout, PipelineLayout,
-    Recorder, Resource,
+    vk, Binding, Buffer, BufferDesc, ColorTarget, Context, DescriptorSet, DescriptorSetLayout, PipelineLayout, Resource,
 };
 
 /// The meshes' arrays on the GPU (nodes and triangles), for one mesh revision of the
@@ -165,26 +165,21 @@ impl RayPass {
     /// Records light `light`'s shadow rays through the slot's BVH set (inside an open
     /// rendering pass with its visibility image as the one colour target and the frame's depth
     /// kept).
-    #[allow(clippy::too_many_arguments)]
     pub fn record<'a>(
         &'a self,
-        rec: &mut Recorder<'a>,
+        cx: &mut PassRecorder<'_, 'a>,
         rays: Option<&'a SlotRays>,
-        gpu: &'a GpuScene,
-        scene: &Scene,
-        light: u32,
-        bounds: PassBounds,
-        log: &mut PassLog,
+        s: LightSurfaces<'a, '_>,
     ) -> RenderResult<()> {
         let Some(rays) = rays else {
             return Err(RenderError::InvalidInput {
-                field: format!("light {light}"),
+                field: format!("light {}", s.light),
                 why: "its shadow rays were recorded before the BVH was prepared".into(),
             });
         };
-        self.pipeline.bind(rec, bounds);
-        rec.bind_descriptor_set(&self.layout, 1, &rays.set);
-        forward::draw_objects(rec, &self.layout, gpu, scene, light, log);
+        self.pipeline.bind(cx.rec, s.bounds);
+        cx.rec.bind_descriptor_set(&self.layout, 1, &rays.set);
+        s.draw(cx, &self.layout);
         Ok(())
     }
 }

@@ -8,13 +8,14 @@
 //! counters. The result is [`TraversalReport`] in the light's [`crate::RayTracedReport`].
 
 use super::BvhLayout;
-use crate::forward::{self, Bounded, PassBounds};
-use crate::gpu_scene::{DrawPush, GpuScene};
+use crate::forward::{self, Bounded};
+use crate::frame::PassRecorder;
+use crate::gpu_scene::DrawPush;
+use crate::light_surfaces::LightSurfaces;
 use crate::retired::Retired;
 use crate::visibility::VISIBILITY_FORMAT;
 use crate::RenderResult;
 use serde::Serialize;
-use umbra_scene::Scene;
 use umbra_vk::{
     vk, Binding, Buffer, BufferDesc, ColorTarget, ComputePipeline, Context, DescriptorSet, DescriptorSetLayout,
     PipelineLayout, Recorder, Resource,
@@ -189,22 +190,17 @@ impl RayStats {
 
     /// `ray stats N` of a ray-traced light, inside a pass over the frame's surfaces (its
     /// visibility image kept as the one colour target): its rays through the slot's `bvh`.
-    #[allow(clippy::too_many_arguments)]
     pub fn record_surfaces<'a>(
         &'a self,
-        rec: &mut Recorder<'a>,
+        cx: &mut PassRecorder<'_, 'a>,
         bvh: &'a DescriptorSet,
-        gpu: &'a GpuScene,
-        scene: &Scene,
-        light: u32,
-        bounds: PassBounds,
-        log: &mut crate::frame::timing::PassLog,
+        s: LightSurfaces<'a, '_>,
     ) {
         let Some(c) = &self.counters else { return };
-        self.surfaces.bind(rec, bounds);
-        rec.bind_descriptor_set(&self.surfaces_layout, 1, bvh);
-        rec.bind_descriptor_set(&self.surfaces_layout, 2, &c.set);
-        forward::draw_objects(rec, &self.surfaces_layout, gpu, scene, light, log);
+        self.surfaces.bind(cx.rec, s.bounds);
+        cx.rec.bind_descriptor_set(&self.surfaces_layout, 1, bvh);
+        cx.rec.bind_descriptor_set(&self.surfaces_layout, 2, &c.set);
+        s.draw(cx, &self.surfaces_layout);
     }
 
     /// `ray stats N` of a hybrid-RT light: its listed rays, dispatched with the workgroups its

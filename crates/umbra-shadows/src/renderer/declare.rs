@@ -7,23 +7,21 @@
 
 use super::lights::{LightBindings, LightFrame, LightQueries};
 use super::Renderer;
-use crate::forward::PassBounds;
-use crate::frame::timing::PassLog;
 use crate::frame::{PassId, QueryId, Stage, Use};
 use crate::gpu_scene::GpuScene;
 use crate::hybrid::cull::CullingPlan;
 use crate::hybrid::frame::{self as hybrid_frame, HybridQueries};
-use crate::hybrid::pass::{HybridLight, VolumeSource};
+use crate::hybrid::pass::{CullingMap, HybridLight};
 use crate::hybrid::rays::RaysLight;
+use crate::light_surfaces::{over_surfaces, LightSurfaces, PassBounds};
 use crate::plan::{tally, CullReason};
 use crate::shadow_volume::build::LightVolumes;
-use crate::shadow_volume::gpu_frame::{GpuDraws, GpuVolumes, SlotVolumes};
+use crate::shadow_volume::frame::{self as volume_frame, VolumeLight, VolumeSource};
+use crate::shadow_volume::gpu_frame::GpuDraws;
 use crate::shadow_volume::pass::VolumeBindings;
 use crate::RenderResult;
 use umbra_scene::Scene;
-use umbra_vk::{
-    Buffer, BufferState, ColorAttachment, DepthAttachment, DescriptorSet, Image, ImageState, Recorder, RenderTargets,
-};
+use umbra_vk::{Buffer, ColorAttachment, DepthAttachment, DescriptorSet, Image, ImageState, RenderTargets};
 
 use ImageState::{ColorAttachment as Color, DepthStencilAttachment as Depth, FragmentRead as Read};
 
@@ -44,6 +42,13 @@ pub(super) struct FrameInputs<'a> {
     pub volumes: Option<&'a Buffer>,
     /// The draws' initial values of the shadow volumes built on the GPU (when any).
     pub volume_resets: Option<&'a Buffer>,
+}
+
+impl<'a> FrameInputs<'a> {
+    /// `light`'s passes over the frame's surfaces: this frame's scene, the light, its bounds.
+    pub fn surfaces(&self, light: &LightFrame) -> LightSurfaces<'a, 'a> {
+        LightSurfaces { gpu: self.gpu, scene: self.scene, light: light.light() as u32, bounds: light_bounds(light) }
+    }
 }
 
 impl Renderer {
@@ -86,18 +91,7 @@ impl Renderer {
             if map.depth {
                 let image = self.shadow_map.image(l)?;
                 stage.pass(PassId::ShadowMap(l), &[Use::Image(image, Depth)], move |cx| {
-                    let (views, first_view) = (&map.views, map.shadow.first_view);
-                    self.shadow_map.record(
-                        cx.rec,
-                        &self.layout,
-                        f.gpu,
-                        f.scene,
-                        l,
-                        views,
-                        first_view,
-                        map.bias_clamp,
-                        cx.log,
-                    )
+                    self.shadow_map.record(cx, &self.layout, f.gpu, f.scene, l, map)
                 });
             }
             if light.hybrid() {
@@ -143,16 +137,14 @@ impl Renderer {
             let l = light.light();
             let n = culling.boxes.iter().filter(|(b, _)| *b == l).count() as u32;
             if let (Some(map), true) = (&light.map, n > 0) {
-                ranges.push((self.shadow_map.image(l)?, start..start + n, map.shadow.first_view));
+                let (image, view) = (self.shadow_map.image(l)?, map.shadow.first_view);
+                ranges.push(CullingMap { map: image, boxes: start..start + n, view });
                 start += n;
             }
         }
-        let uses: Vec<Use> = ranges.iter().map(|(map, ..)| Use::Image(map, ImageState::DepthStencilReadOnly)).collect();
+        let uses: Vec<Use> = ranges.iter().map(|m| Use::Image(m.map, ImageState::DepthStencilReadOnly)).collect();
         stage.pass(PassId::BlockerCulling, &uses, move |cx| {
-            for (map, range, view) in ranges {
-                let query = QueryId(first.0 + range.start);
-                self.hybrid.record_culling(cx, &self.layout, f.gpu, map, boxes, range, view, query);
-            }
+            self.hybrid.record_culling(cx, &self.layout, f.gpu, boxes, &ranges, first);
             Ok(())
         });
         Ok(first)
@@ -263,12 +255,13 @@ impl Renderer {
                 Ok(true)
             }
             (Some(volumes), _) if volumes.gpu.is_some() => {
-                self.declare_gpu_stencil_visibility(stage, f, light, volumes)?;
+                let source = self.declare_gpu_stages(stage, light, volumes)?;
+                self.declare_volume_light(stage, f, light, volumes, source)?;
                 Ok(true)
             }
             // A hybrid light without a map this frame is shadowed by its volumes alone.
             (Some(volumes), Some(vertices)) => {
-                self.declare_stencil_visibility(stage, f, light, volumes, vertices)?;
+                self.declare_volume_light(stage, f, light, volumes, VolumeSource::Host(Some(vertices)))?;
                 Ok(true)
             }
             _ if light.rays => {
@@ -294,10 +287,7 @@ impl Renderer {
     ) -> RenderResult<HybridQueries> {
         let l = light.light();
         let source = match volumes.gpu {
-            Some(_) => {
-                let (g, slot) = self.declare_gpu_stages(stage, light, volumes)?;
-                VolumeSource::Gpu(g, slot)
-            }
+            Some(_) => self.declare_gpu_stages(stage, light, volumes)?,
             None => VolumeSource::Host(f.volumes),
         };
         let h = HybridLight {
@@ -361,115 +351,29 @@ impl Renderer {
         Ok(reads)
     }
 
-    /// Everitt–Kilgard: `shadow_volume N`, the stencil counts, then `visibility N (stencil)`
-    /// resolving them into the visibility image.
-    fn declare_stencil_visibility<'a>(
-        &'a self,
-        stage: &mut Stage<'a>,
-        f: FrameInputs<'a>,
-        light: &'a LightFrame,
-        volumes: &'a LightVolumes,
-        vertices: &'a Buffer,
-    ) -> RenderResult<()> {
-        let (l, bounds) = (light.light(), light_bounds(light));
-        self.declare_stencil_counts(stage, f, light, Vec::new(), move |rec, log| {
-            let b = VolumeBindings { layout: &self.layout, gpu: f.gpu, vertices };
-            self.shadow_volume.record_stencil(rec, b, volumes, l as u32, bounds, log);
-        })
-    }
-
-    /// Shadow volumes built on the GPU (`shadow_volume/gpu_frame.rs`): the stages, then
-    /// `shadow_volume N` drawing from what they wrote and `visibility N (stencil)` as on the
-    /// CPU path.
-    fn declare_gpu_stencil_visibility<'a>(
-        &'a self,
-        stage: &mut Stage<'a>,
-        f: FrameInputs<'a>,
-        light: &'a LightFrame,
-        volumes: &'a LightVolumes,
-    ) -> RenderResult<()> {
-        let (l, bounds) = (light.light(), light_bounds(light));
-        let (g, slot) = self.declare_gpu_stages(stage, light, volumes)?;
-        let reads = VolumeSource::Gpu(g, slot).reads();
-        self.declare_stencil_counts(stage, f, light, reads, move |rec, log| {
-            let fold = self.shadow_volume.fold();
-            g.record_stencil(rec, f.gpu, slot, volumes, l as u32, bounds, fold, log);
-        })
-    }
-
-    /// `shadow_volume N`, the stencil counts (`draw` inside a rendering pass over the frame's
-    /// depth with the stencil cleared; `reads`: what the draws read besides it), then
-    /// `visibility N (stencil)`.
-    fn declare_stencil_counts<'a>(
-        &'a self,
-        stage: &mut Stage<'a>,
-        f: FrameInputs<'a>,
-        light: &'a LightFrame,
-        reads: Vec<Use<'a>>,
-        draw: impl FnOnce(&mut Recorder<'a>, &mut PassLog) + 'a,
-    ) -> RenderResult<()> {
-        let depth = f.depth;
-        let uses = [vec![Use::Image(depth, Depth)], reads].concat();
-        stage.pass(PassId::ShadowVolume(light.light()), &uses, move |cx| {
-            let stencil = DepthAttachment::clearing_stencil(depth, 0);
-            cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(stencil) });
-            draw(cx.rec, cx.log);
-            cx.rec.end_rendering();
-            Ok(())
-        });
-        self.declare_stencil_resolve(stage, f, light)
-    }
-
-    /// The frame's passes before any light's volumes are built on the GPU, when a light builds
-    /// them: `volume positions`, the meshes an engine deforms on the GPU copied into the
-    /// volumes' positions (`shadow_volume/deform.rs`), and `volume draws reset`, every job's
-    /// draw and counts set from their initial values.
+    /// The volumes' frame passes (`shadow_volume::frame::declare_gpu_frame`) when a light
+    /// builds its volumes on the GPU.
     fn declare_volume_frame<'a>(&'a self, stage: &mut Stage<'a>, f: FrameInputs<'a>) {
         let Some(g) = self.gpu_volumes.as_ref() else { return };
-        if !f.lights.iter().any(builds_on_gpu) {
-            return;
-        }
-        if let Some(positions) = g.deformed_positions() {
-            stage.pass(PassId::VolumePositions, &[Use::Buffer(positions, BufferState::ComputeStorage)], move |cx| {
-                g.record_deform(cx.rec);
-                Ok(())
-            });
-        }
-        if let (Some(init), Some((_, _, draws))) = (f.volume_resets, g.written()) {
-            stage.pass(PassId::VolumeDrawsReset, &[Use::Buffer(draws, BufferState::TransferDst)], move |cx| {
-                g.record_reset(cx.rec, init);
-                Ok(())
-            });
-        }
+        volume_frame::declare_gpu_frame(stage, g, f.lights.iter().any(builds_on_gpu), f.volume_resets);
     }
 
-    /// `volume counts readback` (the renderer's own frames, after every light's shadows): the
-    /// draws and counts of the volumes built on the GPU copied out for the report. Whether it
-    /// was declared.
+    /// `volume counts readback` (`shadow_volume::frame::declare_gpu_counts`) over every job of
+    /// the frame's lights built on the GPU. Whether it was declared.
     fn declare_volume_counts<'a>(&'a self, stage: &mut Stage<'a>, f: FrameInputs<'a>) -> bool {
         let Some(g) = self.gpu_volumes.as_ref() else { return false };
-        let (Some((_, _, draws)), Some(out)) = (g.written(), g.counts_readback()) else { return false };
         let jobs = f.lights.iter().filter(|l| builds_on_gpu(l)).filter_map(|l| l.volumes.as_ref()?.gpu.as_ref());
-        let Some(count) = jobs.map(|(first, jobs)| first + jobs.len()).max() else { return false };
-        stage.pass(
-            PassId::VolumeCounts,
-            &[Use::Buffer(draws, BufferState::TransferSrc), Use::Readback(out)],
-            move |cx| {
-                g.record_counts_readback(cx.rec, count);
-                Ok(())
-            },
-        );
-        true
+        volume_frame::declare_gpu_counts(stage, g, jobs.map(|(first, jobs)| first + jobs.len()).max())
     }
 
-    /// The GPU's build of a light's volumes: `volume classify N` and `volume silhouettes N`.
-    /// Returns the path and the frame slot's set its counting draws bind.
+    /// The GPU's build of a light's volumes (`shadow_volume::frame::declare_gpu_stages`):
+    /// where its counting draws read them.
     fn declare_gpu_stages<'a>(
         &'a self,
         stage: &mut Stage<'a>,
         light: &'a LightFrame,
         volumes: &'a LightVolumes,
-    ) -> RenderResult<(&'a GpuVolumes, &'a SlotVolumes)> {
+    ) -> RenderResult<VolumeSource<'a>> {
         let l = light.light();
         let missing = |what: &str| crate::RenderError::InvalidInput {
             field: format!("light {l}"),
@@ -477,38 +381,23 @@ impl Renderer {
         };
         let g = self.gpu_volumes.as_ref().ok_or_else(|| missing("the GPU path"))?;
         let slot = self.slot.volumes.as_ref().ok_or_else(|| missing("the volumes' set"))?;
-        let (facing, list, draws) = g.written().ok_or_else(|| missing("the volumes' buffers"))?;
-        let storage = BufferState::ComputeStorage;
-        let mut uses = vec![Use::Buffer(facing, storage), Use::Buffer(draws, storage)];
-        uses.extend(g.deformed_positions().map(|p| Use::Buffer(p, BufferState::ComputeRead)));
-        stage.pass(PassId::VolumeClassify(l), &uses, move |cx| {
-            g.record_classify(cx.rec, slot, volumes);
-            Ok(())
-        });
-        let uses = [Use::Buffer(facing, storage), Use::Buffer(list, storage), Use::Buffer(draws, storage)];
-        stage.pass(PassId::VolumeSilhouettes(l), &uses, move |cx| {
-            g.record_silhouettes(cx.rec, slot, volumes);
-            Ok(())
-        });
-        Ok((g, slot))
+        volume_frame::declare_gpu_stages(stage, l, g, slot, volumes).ok_or_else(|| missing("the volumes' buffers"))
     }
 
-    /// `visibility N (stencil)`: a shadow-volume light's stencil counts resolved into its
-    /// visibility image.
-    fn declare_stencil_resolve<'a>(
+    /// A shadow-volume light (`shadow_volume::frame::declare_light`): its stencil counts from
+    /// `source`, resolved into its visibility image.
+    fn declare_volume_light<'a>(
         &'a self,
         stage: &mut Stage<'a>,
         f: FrameInputs<'a>,
         light: &'a LightFrame,
+        volumes: &'a LightVolumes,
+        source: VolumeSource<'a>,
     ) -> RenderResult<()> {
-        let (l, bounds, depth) = (light.light(), light_bounds(light), f.depth);
-        let image = &self.visibility.light(l)?.image;
-        stage.pass(PassId::StencilVisibility(l), &[Use::Image(image, Color), Use::Image(depth, Depth)], move |cx| {
-            over_surfaces(cx.rec, image, Some([0.0; 4]), depth);
-            self.visibility.record_stencil(cx.rec, &self.layout, f.gpu, f.scene, l as u32, bounds, cx.log);
-            cx.rec.end_rendering();
-            Ok(())
-        });
+        let visibility = &self.visibility.light(light.light())?.image;
+        let surfaces = f.surfaces(light);
+        let v = VolumeLight { surfaces, layout: &self.layout, depth: f.depth, visibility, volumes, source };
+        volume_frame::declare_light(stage, &self.shadow_volume, &self.visibility, v);
         Ok(())
     }
 
@@ -521,13 +410,13 @@ impl Renderer {
         shadow_set: &'a DescriptorSet,
         reads: &[Use<'a>],
     ) -> RenderResult<()> {
-        let (l, bounds, depth) = (light.light(), light_bounds(light), f.depth);
+        let (l, depth) = (light.light(), f.depth);
         let image = &self.visibility.light(l)?.image;
         let uses = [&[Use::Image(image, Color), Use::Image(depth, Depth)], reads].concat();
+        let surfaces = f.surfaces(light);
         stage.pass(PassId::MapVisibility(l), &uses, move |cx| {
             over_surfaces(cx.rec, image, Some([0.0; 4]), depth);
-            let (layout, light) = (&self.layout, l as u32);
-            self.visibility.record_map(cx.rec, layout, f.gpu, shadow_set, f.scene, light, bounds, cx.log);
+            self.visibility.record_map(cx, &self.layout, surfaces, shadow_set);
             cx.rec.end_rendering();
             Ok(())
         });
@@ -542,11 +431,12 @@ impl Renderer {
         f: FrameInputs<'a>,
         light: &'a LightFrame,
     ) -> RenderResult<()> {
-        let (l, bounds, depth) = (light.light(), light_bounds(light), f.depth);
+        let (l, depth) = (light.light(), f.depth);
         let image = &self.visibility.light(l)?.image;
+        let surfaces = f.surfaces(light);
         stage.pass(PassId::RayVisibility(l), &[Use::Image(image, Color), Use::Image(depth, Depth)], move |cx| {
             over_surfaces(cx.rec, image, Some([0.0; 4]), depth);
-            self.rays.record(cx.rec, self.slot.rays.as_ref(), f.gpu, f.scene, l as u32, bounds, cx.log)?;
+            self.rays.record(cx, self.slot.rays.as_ref(), surfaces)?;
             cx.rec.end_rendering();
             Ok(())
         });
@@ -562,7 +452,7 @@ impl Renderer {
         light: &'a LightFrame,
         shadowed: bool,
     ) -> RenderResult<()> {
-        let (l, bounds, depth) = (light.light(), light_bounds(light), f.depth);
+        let (l, depth) = (light.light(), f.depth);
         let color = &self.own()?.color;
         let mut uses = vec![Use::Image(color, Color), Use::Image(depth, Depth)];
         let set = match shadowed {
@@ -574,10 +464,10 @@ impl Renderer {
             false => &self.visibility.unshadowed_set,
         };
         let visibility = (set, shadowed);
+        let surfaces = f.surfaces(light);
         stage.pass(PassId::Light(l, light.plan.kind), &uses, move |cx| {
             over_surfaces(cx.rec, color, None, depth);
-            let (layout, light) = (&self.layout, l as u32);
-            self.forward.record_light(cx.rec, layout, f.gpu, visibility, f.scene, light, bounds, cx.log);
+            self.forward.record_light(cx, &self.layout, surfaces, visibility);
             cx.rec.end_rendering();
             Ok(())
         });
@@ -604,9 +494,10 @@ impl Renderer {
         let mut uses = vec![Use::Image(class, Color), Use::Image(depth, Depth), Use::Readback(&out.classes)];
         uses.extend(out.stencil.as_ref().map(Use::Readback));
         uses.extend_from_slice(reads);
+        let surfaces = f.surfaces(light);
         stage.pass(PassId::LightDiagnostics(l), &uses, move |cx| {
             over_surfaces(cx.rec, class, Some([0.0; 4]), depth);
-            self.forward.record_classes(cx.rec, &self.layout, f.gpu, shadow_set, f.scene, l as u32, cx.log);
+            self.forward.record_classes(cx, &self.layout, surfaces, shadow_set);
             cx.rec.end_rendering();
             cx.enter(&[(class, ImageState::TransferSrc)]);
             cx.rec.copy_image_to_buffer(class, 0, &out.classes);
@@ -681,13 +572,14 @@ impl Renderer {
             Use::Readback(&out.points),
             Use::Readback(&out.silhouette_map),
         ]);
+        let surfaces = f.surfaces(light);
         stage.pass(PassId::SilhouetteDiagnostics(l), &uses, move |cx| {
             let color = [
                 ColorAttachment { image: class, clear: Some(crate::diagnostics::BACKGROUND) },
                 ColorAttachment { image: points, clear: Some([0.0; 4]) },
             ];
             cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(DepthAttachment::keep(depth)) });
-            self.silhouette_map.record_diagnostics(cx.rec, &self.layout, f.gpu, shadow_set, f.scene, l as u32, cx.log);
+            self.silhouette_map.record_diagnostics(cx, &self.layout, surfaces, shadow_set);
             cx.rec.end_rendering();
             let src = ImageState::TransferSrc;
             cx.enter(&[(class, src), (points, src), (silmap, src)]);
@@ -726,15 +618,8 @@ impl Renderer {
 }
 
 /// Where a bounded light's passes may draw (its plan's scissor and depth bounds).
-pub(super) fn light_bounds(light: &LightFrame) -> PassBounds {
+fn light_bounds(light: &LightFrame) -> PassBounds {
     PassBounds { scissor: light.plan.scissor, depth: light.plan.depth_bounds }
-}
-
-/// Begins a pass over the frame's surfaces: one colour target (`clear`ed or kept) and the
-/// frame's depth, kept, for the EQUAL test.
-pub(super) fn over_surfaces<'a>(rec: &mut Recorder<'a>, image: &'a Image, clear: Option<[f32; 4]>, depth: &'a Image) {
-    let color = [ColorAttachment { image, clear }];
-    rec.begin_rendering(&RenderTargets { color: &color, depth: Some(DepthAttachment::keep(depth)) });
 }
 
 /// Whether a light's volumes are built on the GPU this frame.

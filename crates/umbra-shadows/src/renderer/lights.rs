@@ -3,10 +3,9 @@
 
 use crate::diagnostics::{ClassReadback, DiagnosticReadback};
 use crate::frame::QueryId;
-use crate::gpu_scene::GpuShadow;
 use crate::hybrid::frame::HybridQueries;
 use crate::plan::LightPlan;
-use crate::shadow_map::frustum::LightViews;
+use crate::shadow_map::MapFrame;
 use crate::shadow_volume::build::LightVolumes;
 use crate::silhouette_map::edges::LightEdges;
 use crate::technique::{needs, Lighting};
@@ -37,24 +36,6 @@ impl FrameView {
         let reach = self.boxes.iter().flatten().map(farthest).fold(0.0, f32::max);
         self.view.depth_precision(reach)
     }
-}
-
-/// One light's shadow map this frame.
-pub(super) struct MapFrame {
-    /// Its views (one per layer) and the casters each draws.
-    pub views: LightViews,
-    /// Texels per side.
-    pub resolution: u32,
-    /// Whether it is also a silhouette map's depth map.
-    pub silhouette: bool,
-    /// Whether its depth map is made and drawn: by every map technique but the hybrid without
-    /// blocker culling, whose classification reads only its depth bounds (the views still
-    /// place them), so a depth map there could not change the image.
-    pub depth: bool,
-    /// What the lighting passes read of it.
-    pub shadow: GpuShadow,
-    /// Depth-bias clamp in map depth units (0: none, or no `depthBiasClamp`).
-    pub bias_clamp: f32,
 }
 
 /// One light in one frame: its plan and what its technique prepared.

@@ -2,7 +2,7 @@
 //! (checked against the device and the budget before any is made), extract silhouette edges,
 //! build shadow volumes, list blocker boxes, and upload what changed.
 
-use super::lights::{FrameView, LightFrame, MapFrame};
+use super::lights::{FrameView, LightFrame};
 use super::Renderer;
 use crate::budget;
 use crate::error::ShadowStorage;
@@ -10,9 +10,9 @@ use crate::gpu_scene::{GpuScene, GpuShadow};
 use crate::hybrid::cull::{self, CullingPlan};
 use crate::hybrid::MaskKind;
 use crate::plan::{plan_frame, tally, CullReason, PlanInput, RayTracedReport, ShadowMapReport, SilhouetteMapReport};
-use crate::shadow_map::frustum::LightViews;
 use crate::shadow_map::texels;
 use crate::shadow_map::DepthBias;
+use crate::shadow_map::MapFrame;
 use crate::shadow_volume::build::{self as volumes};
 use crate::shadow_volume::clip;
 use crate::shadow_volume::pass::VolumeInput;
@@ -209,7 +209,7 @@ impl Renderer {
                 bounds,
                 bytes,
             });
-            fitted[plan.light] = Some(map_frame(views, resolution, silhouette, depth));
+            fitted[plan.light] = Some(MapFrame::new(views, resolution, silhouette, depth));
         }
         budget::check(&storage, self.desc.shadow_map_budget_bytes)?;
         Ok(fitted)
@@ -240,27 +240,22 @@ impl Renderer {
                 _ => continue,
             };
             let mode = wanted.mode(self.desc.shadow_volume.mode);
-            let source = &scene.lights[plan.light];
-            let boxes = &view.boxes;
+            let casters = volumes::LightCasters {
+                scene,
+                casters: &plan.volume_casters,
+                adjacency,
+                boxes: &view.boxes,
+                light: &scene.lights[plan.light],
+                view: &view.view,
+                mode,
+            };
             if let Some(g) = self.gpu_volumes.as_mut() {
                 g.prepare_arrays(&self.ctx, adjacency, self.deforming.streams(), &mut self.slot.retired)?;
-                let (casters, ranges) = (&plan.volume_casters, g.ranges());
-                let v = volumes::jobs_for_light(
-                    scene, casters, adjacency, ranges, boxes, source, &view.view, mode, &mut jobs, &mut next,
-                );
+                let v = volumes::jobs_for_light(casters, g.ranges(), &mut jobs, &mut next);
                 light.volumes = Some(volumes::LightVolumes { depth_precision, ..v });
                 continue;
             }
-            let v = volumes::build_light(
-                scene,
-                &plan.volume_casters,
-                adjacency,
-                boxes,
-                source,
-                &view.view,
-                mode,
-                &mut vertices,
-            );
+            let v = volumes::build_light(casters, &mut vertices);
             light.volumes = Some(volumes::LightVolumes { depth_precision, ..v });
         }
         if let (Some(g), false) = (self.gpu_volumes.as_mut(), jobs.is_empty()) {
@@ -417,8 +412,4 @@ impl Renderer {
         }
         Ok(gpu)
     }
-}
-
-fn map_frame(views: LightViews, resolution: u32, silhouette: bool, depth: bool) -> MapFrame {
-    MapFrame { views, resolution, silhouette, depth, shadow: GpuShadow::default(), bias_clamp: 0.0 }
 }

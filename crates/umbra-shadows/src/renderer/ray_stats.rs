@@ -3,10 +3,11 @@
 //! ray-casting light's shadows, `ray stats N` after each one's visibility, `ray stats readback`
 //! after the last.
 
-use super::declare::{light_bounds, over_surfaces, FrameInputs};
+use super::declare::FrameInputs;
 use super::lights::LightFrame;
 use super::Renderer;
 use crate::frame::{PassId, Stage, Use};
+use crate::light_surfaces::over_surfaces;
 use crate::ray_traced::stats::RayStats;
 use crate::RenderResult;
 use umbra_vk::{BufferState, ImageState};
@@ -45,7 +46,7 @@ impl Renderer {
         };
         let image = &self.visibility.light(l)?.image;
         if !light.hybrid_rays() {
-            let (bounds, depth) = (light_bounds(light), f.depth);
+            let (surfaces, depth) = (f.surfaces(light), f.depth);
             let uses = [
                 Use::Image(image, Color),
                 Use::Image(depth, Depth),
@@ -53,7 +54,7 @@ impl Renderer {
             ];
             stage.pass(PassId::RayStats(l), &uses, move |cx| {
                 over_surfaces(cx.rec, image, None, depth);
-                stats.record_surfaces(cx.rec, bvh, f.gpu, f.scene, l as u32, bounds, cx.log);
+                stats.record_surfaces(cx, bvh, surfaces);
                 cx.rec.end_rendering();
                 Ok(())
             });

@@ -15,9 +15,11 @@ pub(crate) mod atlas;
 pub(crate) mod fits;
 pub(crate) mod frustum;
 mod kept;
+mod map_frame;
 pub(crate) mod pass;
 pub(crate) mod samples;
 mod settings;
 pub(crate) mod texels;
 
+pub(crate) use map_frame::MapFrame;
 pub use settings::{DepthBias, ShadowFilter, ShadowMapSettings};

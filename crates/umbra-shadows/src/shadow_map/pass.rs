@@ -2,9 +2,10 @@
 //! map, then the descriptor set through which the lighting pass compares against it.
 
 use super::atlas;
-use super::frustum::{LightViews, MapKind};
+use super::frustum::MapKind;
+use super::map_frame::MapFrame;
 use super::settings::{ShadowFilter, ShadowMapSettings};
-use crate::frame::timing::PassLog;
+use crate::frame::PassRecorder;
 use crate::gpu_scene::{self, Bound, DrawPush, GpuScene};
 use crate::retired::Retired;
 use crate::{RenderError, RenderResult};
@@ -196,20 +197,18 @@ impl ShadowMapPass {
     /// Records the depth pass of light `light` (prepared with [`ShadowMapPass::prepare`], its map
     /// in [`ImageState::DepthStencilAttachment`]): one rendering per map layer, casters front
     /// to back; a face atlas is one rendering, each face drawn into its tile.
-    /// `bias_clamp` limits the depth bias (map depth units, 0 = no limit).
-    #[allow(clippy::too_many_arguments)]
+    /// The map's `bias_clamp` limits the depth bias (map depth units, 0 = no limit).
     pub fn record<'a>(
         &'a self,
-        rec: &mut Recorder<'a>,
+        cx: &mut PassRecorder<'_, 'a>,
         layout: &'a PipelineLayout,
         gpu: &'a GpuScene,
         scene: &Scene,
         light: usize,
-        views: &LightViews,
-        first_view: u32,
-        bias_clamp: f32,
-        log: &mut PassLog,
+        map: &MapFrame,
     ) -> RenderResult<()> {
+        let (rec, log) = (&mut *cx.rec, &mut *cx.log);
+        let (views, first_view, bias_clamp) = (&map.views, map.shadow.first_view, map.bias_clamp);
         let target = self.target(light)?;
         // A depth rendering into one cube face, or into the whole map, cleared to 1.
         let begin = |rec: &mut Recorder<'a>, view: Option<&'a ImageView>| {

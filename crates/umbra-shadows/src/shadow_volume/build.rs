@@ -128,20 +128,25 @@ impl LightVolumes {
     }
 }
 
-/// Builds the volumes of `light` for the objects `casters` (the plan's, `LightPlan`), appending
-/// their vertices to `vertices`. `adjacency[i]` is mesh `i`'s welded connectivity; `boxes` each
-/// object's world bounds (`Scene::object_bounds`).
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn build_light(
-    scene: &Scene,
-    casters: &[usize],
-    adjacency: &[Arc<Adjacency>],
-    boxes: &[Option<Aabb>],
-    light: &Light,
-    view: &View,
-    mode: VolumeMode,
-    vertices: &mut Vec<Vec4>,
-) -> LightVolumes {
+/// One light's shadow-volume casters, as both paths read them.
+#[derive(Clone, Copy)]
+pub(crate) struct LightCasters<'a> {
+    pub scene: &'a Scene,
+    /// The objects that cast (the plan's, `LightPlan::volume_casters`).
+    pub casters: &'a [usize],
+    /// Mesh `i`'s welded connectivity at `i`.
+    pub adjacency: &'a [Arc<Adjacency>],
+    /// Each object's world bounds (`Scene::object_bounds`).
+    pub boxes: &'a [Option<Aabb>],
+    pub light: &'a Light,
+    /// The camera the volumes are drawn from (its near plane decides z-pass or z-fail).
+    pub view: &'a View,
+    pub mode: VolumeMode,
+}
+
+/// Builds the volumes of `c.light` for its casters, appending their vertices to `vertices`.
+pub(crate) fn build_light(c: LightCasters<'_>, vertices: &mut Vec<Vec4>) -> LightVolumes {
+    let LightCasters { scene, casters, adjacency, boxes, light, view, mode } = c;
     let started = std::time::Instant::now();
     let near_region = NearRegion::new(view, light.position);
     let built: Vec<(usize, Counting, Vec<Vec4>, VolumeStats, u32)> = casters
@@ -197,24 +202,18 @@ pub(crate) fn build_light(
     }
 }
 
-/// Names the volumes of `light` for the objects `casters` as jobs of the GPU path (`gpu.rs`),
+/// Names the volumes of `c.light` for its casters as jobs of the GPU path (`gpu.rs`),
 /// appended to `jobs` over `arrays` (every mesh's adjacency, in mesh order), with their facing
 /// and list entries after `next` (advanced). Nothing per triangle, and in [`VolumeMode::Auto`]
 /// nothing per caster but its box: the GPU decides each caster's counting mode from the
 /// light's near-plane clip region, made here once.
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn jobs_for_light(
-    scene: &Scene,
-    casters: &[usize],
-    adjacency: &[Arc<Adjacency>],
+    c: LightCasters<'_>,
     arrays: &super::gpu::MeshRanges,
-    boxes: &[Option<Aabb>],
-    light: &Light,
-    view: &View,
-    mode: VolumeMode,
     jobs: &mut Vec<super::gpu::VolumeJob>,
     next: &mut (u32, u32),
 ) -> LightVolumes {
+    let LightCasters { scene, casters, adjacency, boxes, light, view, mode } = c;
     use super::gpu::{MODE_AUTO, MODE_ZFAIL, MODE_ZPASS, NEAR_PLANES};
     let started = std::time::Instant::now();
     let (counting, job_mode) = match mode {

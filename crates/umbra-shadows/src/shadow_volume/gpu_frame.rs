@@ -22,9 +22,9 @@ use super::build::{CasterVolume, Counting, LightVolumes};
 use super::deform::{DeformCopies, DeformPipeline};
 use super::gpu::{AdjacencyArrays, GpuSilhouettes, JobDraw, MeshRange, DRAW_STRIDE};
 use super::pass::{overdraw_pipeline, Counting4, VolumeInput};
-use crate::forward::PassBounds;
 use crate::frame::timing::PassLog;
 use crate::gpu_scene::GpuScene;
+use crate::light_surfaces::PassBounds;
 use crate::mesh_buffers::VertexStream;
 use crate::retired::Retired;
 use crate::RenderResult;
@@ -300,19 +300,14 @@ impl GpuVolumes {
 
     /// Light `light`'s counting draws (inside the stencil pass, its lists and draws written):
     /// per batch of its casters, z-fail casters' sides and caps, then z-pass casters' sides.
-    #[allow(clippy::too_many_arguments)]
     pub fn record_stencil<'a>(
         &'a self,
         rec: &mut Recorder<'a>,
-        gpu: &'a GpuScene,
-        slot: &'a SlotVolumes,
-        volumes: &LightVolumes,
-        light: u32,
+        draws: GpuDraws<'a, '_>,
         bounds: PassBounds,
         fold: &'a GraphicsPipeline,
         log: &mut PassLog,
     ) {
-        let draws = GpuDraws { gpu, slot, volumes, light };
         self.record_counting(rec, draws, FULL_STENCIL, fold, log, |rec, counting, batched, caps| {
             let pipelines = if caps { &self.caps } else { &self.sides };
             pipelines.pick(counting, batched).bind(rec, bounds);

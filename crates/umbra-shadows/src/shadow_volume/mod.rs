@@ -17,6 +17,7 @@ pub(crate) mod batches;
 pub(crate) mod build;
 pub(crate) mod clip;
 pub(crate) mod deform;
+pub(crate) mod frame;
 pub(crate) mod gpu;
 pub(crate) mod gpu_frame;
 pub(crate) mod pass;

@@ -6,9 +6,10 @@
 use super::batches::{counting_in_batch, fold_desc, record_in_batches, FULL_STENCIL};
 use super::build::{CasterVolume, Counting, LightVolumes};
 use super::settings::{FarPlane, ShadowVolumeSettings};
-use crate::forward::{Bounded, PassBounds};
+use crate::forward::Bounded;
 use crate::frame::timing::PassLog;
 use crate::gpu_scene::{DrawPush, GpuScene};
+use crate::light_surfaces::PassBounds;
 use crate::RenderResult;
 use umbra_vk::{
     vk, Blend, Buffer, ColorTarget, Context, DepthState, GraphicsPipeline, GraphicsPipelineDesc, PipelineLayout,

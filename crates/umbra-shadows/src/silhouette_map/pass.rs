@@ -6,13 +6,14 @@ use super::edges::{EdgeInstance, LightEdges};
 use super::geometry::DEFAULT_POINT;
 use crate::forward;
 use crate::frame::timing::PassLog;
+use crate::frame::PassRecorder;
 use crate::gpu_scene::{DrawPush, GpuScene};
+use crate::light_surfaces::LightSurfaces;
 use crate::retired::Retired;
 use crate::shadow_map::atlas;
 use crate::shadow_map::frustum::MapKind;
 use crate::shadow_map::ShadowMapSettings;
 use crate::{RenderError, RenderResult};
-use umbra_scene::Scene;
 use umbra_vk::{
     vk, Buffer, ColorAttachment, ColorTarget, Context, DepthState, DescriptorSet, GraphicsPipeline,
     GraphicsPipelineDesc, Image, ImageDesc, ImageState, PipelineLayout, Recorder, RenderTargets, VertexAttribute,
@@ -192,20 +193,16 @@ impl SilhouetteMapPass {
 
     /// Draws the diagnostic views of light `light` (inside a rendering pass with the two
     /// diagnostic targets and the frame's depth), its maps bound through `shadow_set`.
-    #[allow(clippy::too_many_arguments)]
     pub fn record_diagnostics<'a>(
         &'a self,
-        rec: &mut Recorder<'a>,
+        cx: &mut PassRecorder<'_, 'a>,
         layout: &'a PipelineLayout,
-        gpu: &'a GpuScene,
+        s: LightSurfaces<'a, '_>,
         shadow_set: &'a DescriptorSet,
-        scene: &Scene,
-        light: u32,
-        log: &mut PassLog,
     ) {
-        rec.bind_pipeline(&self.diagnostics);
-        rec.bind_descriptor_set(layout, 1, shadow_set);
-        forward::draw_objects(rec, layout, gpu, scene, light, log);
+        cx.rec.bind_pipeline(&self.diagnostics);
+        cx.rec.bind_descriptor_set(layout, 1, shadow_set);
+        s.draw(cx, layout);
     }
 }
 
