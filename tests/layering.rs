@@ -5,7 +5,9 @@
 //! `auto`), and a primitive technique (shadow maps, shadow volumes, ray tracing) importing
 //! another technique.
 //!
-//! Any such arrow, and any cycle between folder-level modules, fails here.
+//! Any such arrow, and any cycle between folder-level modules, fails here; so does a file of
+//! umbra-shadows over 500 lines besides its tests, or more than five long-argument-list
+//! allowances in the workspace.
 //! `cargo test --test layering -- --nocapture` prints every arrow that breaks a rule.
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -356,4 +358,55 @@ fn the_layers_point_down() {
     assert!(cyclic.is_empty(), "folder-level modules import one another in a cycle: {cyclic:?}");
     assert!(upward.is_empty(), "technique files import the renderer, engine API or planner: {upward:?}");
     assert!(cross.is_empty(), "primitive-technique files import another technique: {cross:?}");
+}
+
+/// Lines of `text` before its `#[cfg(test)] mod …` (the file's production code, comments and
+/// docs included).
+fn lines_before_tests(text: &str) -> usize {
+    let lines: Vec<&str> = text.lines().collect();
+    let end = lines
+        .windows(2)
+        .position(|w| w[0].trim() == "#[cfg(test)]" && w[1].trim_start().starts_with("mod "))
+        .unwrap_or(lines.len());
+    end
+}
+
+/// Files stay small enough to read in one sitting, and functions take few enough arguments
+/// that a pass context carries what every pass shares.
+#[test]
+fn files_stay_under_500_lines_and_long_argument_lists_stay_rare() {
+    const MAX_LINES: usize = 500;
+    const MAX_ALLOWANCES: usize = 5;
+    assert_eq!(lines_before_tests("a\n#[cfg(test)]\nmod tests {\n}\n"), 1);
+    let mut long = Vec::new();
+    for s in sources() {
+        let n = lines_before_tests(&std::fs::read_to_string(&s.path).unwrap());
+        if n > MAX_LINES {
+            long.push(format!("{} ({n} lines)", s.path.display()));
+        }
+    }
+    assert!(long.is_empty(), "umbra-shadows files over {MAX_LINES} lines besides their tests: {long:?}");
+
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut allowances = Vec::new();
+    let mut dirs: Vec<PathBuf> = ["crates", "examples", "tests"].iter().map(|d| root.join(d)).collect();
+    while let Some(dir) = dirs.pop() {
+        for path in std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().path()) {
+            if path.is_dir() {
+                dirs.push(path);
+            } else if path.extension().is_some_and(|e| e == "rs")
+                && path.file_name().is_some_and(|n| n != "layering.rs")
+            {
+                let text = std::fs::read_to_string(&path).unwrap();
+                let n = text.matches("clippy::too_many_arguments").count();
+                allowances.extend(std::iter::repeat_n(path.display().to_string(), n));
+            }
+        }
+    }
+    println!("clippy::too_many_arguments allowances: {} {allowances:?}", allowances.len());
+    assert!(
+        allowances.len() <= MAX_ALLOWANCES,
+        "{} clippy::too_many_arguments allowances (at most {MAX_ALLOWANCES}: carry shared inputs in a pass context): {allowances:?}",
+        allowances.len()
+    );
 }

@@ -21,15 +21,16 @@
 //! so the lighting is bit for bit what it was when each pass did its own lookup.
 
 use crate::forward::{self, Bounded};
-use crate::frame::PassRecorder;
-use crate::light_surfaces::LightSurfaces;
+use crate::frame::{PassId, PassRecorder, Stage, Use};
+use crate::light_surfaces::{over_surfaces, LightSurfaces};
 use crate::retired::Retired;
 use crate::shadow_map::ShadowMapSettings;
 use crate::{RenderError, RenderResult};
 use std::path::Path;
 use umbra_vk::{
     vk, Binding, Buffer, BufferDesc, Capabilities, ColorTarget, Context, DescriptorSet, DescriptorSetLayout,
-    GraphicsPipelineDesc, Image, ImageDesc, ImageState, PipelineLayout, Resource, Sampler, SamplerDesc, StencilFace,
+    GraphicsPipelineDesc, Image, ImageDesc, ImageState, PipelineLayout, Recorder, Resource, Sampler, SamplerDesc,
+    StencilFace,
 };
 
 /// The visibility image's format: R = visibility, G = 1 where the shadow is in question. 32-bit
@@ -250,6 +251,49 @@ impl VisibilityPass {
             s.draw(cx, layout);
         }
     }
+}
+
+/// What a light's visibility pass writes: its visibility image, over the frame's depth (kept,
+/// for the EQUAL test).
+#[derive(Clone, Copy)]
+pub(crate) struct VisibilityTarget<'a> {
+    pub image: &'a Image,
+    pub depth: &'a Image,
+}
+
+impl<'a> VisibilityTarget<'a> {
+    /// The images a visibility pass uses: the image as colour target, the depth as attachment.
+    pub fn uses(&self) -> [Use<'a>; 2] {
+        [
+            Use::Image(self.image, ImageState::ColorAttachment),
+            Use::Image(self.depth, ImageState::DepthStencilAttachment),
+        ]
+    }
+
+    /// Begins the pass: the image cleared to 0 (shadowed, nothing in question), the depth kept.
+    pub fn begin(&self, rec: &mut Recorder<'a>) {
+        over_surfaces(rec, self.image, Some([0.0; 4]), self.depth);
+    }
+}
+
+/// A shadow-map or silhouette-map light's `visibility N`: its map looked up at every surface,
+/// through `shadow_set` (which binds its maps; `reads`: the maps' images).
+pub(crate) fn declare_map_light<'a>(
+    stage: &mut Stage<'a>,
+    pass: &'a VisibilityPass,
+    layout: &'a PipelineLayout,
+    s: LightSurfaces<'a, 'a>,
+    shadow_set: &'a DescriptorSet,
+    target: VisibilityTarget<'a>,
+    reads: &[Use<'a>],
+) {
+    let uses = [&target.uses()[..], reads].concat();
+    stage.pass(PassId::MapVisibility(s.light as usize), &uses, move |cx| {
+        target.begin(cx.rec);
+        pass.record_map(cx, layout, s, shadow_set);
+        cx.rec.end_rendering();
+        Ok(())
+    });
 }
 
 /// A visibility image as the lighting samples it (nearest, in `FragmentRead`).

@@ -17,6 +17,7 @@
 //!   measured on the host.
 
 mod bvh;
+pub(crate) mod frame;
 pub(crate) mod pass;
 mod scene;
 pub(crate) mod stats;

@@ -15,10 +15,10 @@ use crate::hybrid::pass::{CullingMap, HybridLight};
 use crate::hybrid::rays::RaysLight;
 use crate::light_surfaces::{over_surfaces, LightSurfaces, PassBounds};
 use crate::plan::{tally, CullReason};
+use crate::ray_traced::frame as ray_frame;
 use crate::shadow_volume::build::LightVolumes;
 use crate::shadow_volume::frame::{self as volume_frame, VolumeLight, VolumeSource};
-use crate::shadow_volume::gpu_frame::GpuDraws;
-use crate::shadow_volume::pass::VolumeBindings;
+use crate::visibility::{self, VisibilityTarget};
 use crate::RenderResult;
 use umbra_scene::Scene;
 use umbra_vk::{Buffer, ColorAttachment, DepthAttachment, DescriptorSet, Image, ImageState, RenderTargets};
@@ -265,11 +265,14 @@ impl Renderer {
                 Ok(true)
             }
             _ if light.rays => {
-                self.declare_ray_visibility(stage, f, light)?;
+                let target = self.visibility_target(f, light)?;
+                ray_frame::declare_light(stage, &self.rays, self.slot.rays.as_ref(), f.surfaces(light), target);
                 Ok(true)
             }
             _ if light.map.is_some() => {
-                self.declare_map_visibility(stage, f, light, shadow_set, reads)?;
+                let target = self.visibility_target(f, light)?;
+                let (layout, surfaces) = (&self.layout, f.surfaces(light));
+                visibility::declare_map_light(stage, &self.visibility, layout, surfaces, shadow_set, target, reads);
                 Ok(true)
             }
             _ => Ok(false),
@@ -394,53 +397,15 @@ impl Renderer {
         volumes: &'a LightVolumes,
         source: VolumeSource<'a>,
     ) -> RenderResult<()> {
-        let visibility = &self.visibility.light(light.light())?.image;
-        let surfaces = f.surfaces(light);
-        let v = VolumeLight { surfaces, layout: &self.layout, depth: f.depth, visibility, volumes, source };
-        volume_frame::declare_light(stage, &self.shadow_volume, &self.visibility, v);
+        let v = VolumeLight { surfaces: f.surfaces(light), layout: &self.layout, volumes, source };
+        let target = self.visibility_target(f, light)?;
+        volume_frame::declare_light(stage, &self.shadow_volume, &self.visibility, v, target);
         Ok(())
     }
 
-    /// A shadow-map or silhouette-map light: `visibility N`, its map looked up at every surface.
-    fn declare_map_visibility<'a>(
-        &'a self,
-        stage: &mut Stage<'a>,
-        f: FrameInputs<'a>,
-        light: &'a LightFrame,
-        shadow_set: &'a DescriptorSet,
-        reads: &[Use<'a>],
-    ) -> RenderResult<()> {
-        let (l, depth) = (light.light(), f.depth);
-        let image = &self.visibility.light(l)?.image;
-        let uses = [&[Use::Image(image, Color), Use::Image(depth, Depth)], reads].concat();
-        let surfaces = f.surfaces(light);
-        stage.pass(PassId::MapVisibility(l), &uses, move |cx| {
-            over_surfaces(cx.rec, image, Some([0.0; 4]), depth);
-            self.visibility.record_map(cx, &self.layout, surfaces, shadow_set);
-            cx.rec.end_rendering();
-            Ok(())
-        });
-        Ok(())
-    }
-
-    /// A ray-traced light: `visibility N (rays)`, one shadow ray per receiver pixel through the
-    /// scene's BVH (`crate::ray_traced`).
-    fn declare_ray_visibility<'a>(
-        &'a self,
-        stage: &mut Stage<'a>,
-        f: FrameInputs<'a>,
-        light: &'a LightFrame,
-    ) -> RenderResult<()> {
-        let (l, depth) = (light.light(), f.depth);
-        let image = &self.visibility.light(l)?.image;
-        let surfaces = f.surfaces(light);
-        stage.pass(PassId::RayVisibility(l), &[Use::Image(image, Color), Use::Image(depth, Depth)], move |cx| {
-            over_surfaces(cx.rec, image, Some([0.0; 4]), depth);
-            self.rays.record(cx, self.slot.rays.as_ref(), surfaces)?;
-            cx.rec.end_rendering();
-            Ok(())
-        });
-        Ok(())
+    /// What `light`'s visibility pass writes: its visibility image over the frame's depth.
+    fn visibility_target<'a>(&'a self, f: FrameInputs<'a>, light: &LightFrame) -> RenderResult<VisibilityTarget<'a>> {
+        Ok(VisibilityTarget { image: &self.visibility.light(light.light())?.image, depth: f.depth })
     }
 
     /// `light N (kind)`: the light's Lambert term times its visibility image (`shadowed`), or
@@ -469,148 +434,6 @@ impl Renderer {
             over_surfaces(cx.rec, color, None, depth);
             self.forward.record_light(cx, &self.layout, surfaces, visibility);
             cx.rec.end_rendering();
-            Ok(())
-        });
-        Ok(())
-    }
-
-    /// With diagnostics, a shadow-map or shadow-volume light's classification (and the
-    /// stencil that decides a shadow-volume light's pixels), copied out.
-    fn declare_light_diagnostics<'a>(
-        &'a self,
-        stage: &mut Stage<'a>,
-        f: FrameInputs<'a>,
-        light: &'a LightFrame,
-        reads: &[Use<'a>],
-    ) {
-        let l = light.light();
-        let (Some(targets), Some(out), false) =
-            (&self.diagnostic_targets, &f.bindings[l].class_readback, light.hybrid())
-        else {
-            return;
-        };
-        let Some(shadow_set) = &f.bindings[l].shadow_set else { return };
-        let (class, depth) = (&targets.classification, f.depth);
-        let mut uses = vec![Use::Image(class, Color), Use::Image(depth, Depth), Use::Readback(&out.classes)];
-        uses.extend(out.stencil.as_ref().map(Use::Readback));
-        uses.extend_from_slice(reads);
-        let surfaces = f.surfaces(light);
-        stage.pass(PassId::LightDiagnostics(l), &uses, move |cx| {
-            over_surfaces(cx.rec, class, Some([0.0; 4]), depth);
-            self.forward.record_classes(cx, &self.layout, surfaces, shadow_set);
-            cx.rec.end_rendering();
-            cx.enter(&[(class, ImageState::TransferSrc)]);
-            cx.rec.copy_image_to_buffer(class, 0, &out.classes);
-            if let Some(stencil) = &out.stencil {
-                cx.enter(&[(depth, ImageState::TransferSrc)]);
-                cx.rec.copy_stencil_to_buffer(depth, stencil);
-            }
-            Ok(())
-        });
-    }
-
-    /// With `overdraw`, a light's volumes into the overdraw image (cleared by the `first`),
-    /// counted by the returned query.
-    fn declare_overdraw<'a>(
-        &'a self,
-        stage: &mut Stage<'a>,
-        f: FrameInputs<'a>,
-        light: &'a LightFrame,
-        first: bool,
-    ) -> Option<QueryId> {
-        let ((image, _), v) = (self.overdraw.as_ref()?, light.volumes.as_ref()?);
-        // Built on the CPU: the frame's vertices; on the GPU: the stages' draws and set.
-        let source = match v.gpu {
-            Some(_) => VolumeSource::Gpu(self.gpu_volumes.as_ref()?, self.slot.volumes.as_ref()?),
-            None => VolumeSource::Host(Some(f.volumes?)),
-        };
-        let l = light.light();
-        let query = stage.queries(1);
-        let uses = [vec![Use::Image(image, Color)], source.reads()].concat();
-        stage.pass(PassId::VolumeOverdraw(l), &uses, move |cx| {
-            let clear = first.then_some([0.0; 4]);
-            cx.rec.begin_rendering(&RenderTargets { color: &[ColorAttachment { image, clear }], depth: None });
-            cx.begin_query(query);
-            match source {
-                VolumeSource::Host(Some(vertices)) => {
-                    let b = VolumeBindings { layout: &self.layout, gpu: f.gpu, vertices };
-                    self.shadow_volume.record_overdraw(cx.rec, b, v, l as u32, cx.log);
-                }
-                VolumeSource::Gpu(g, slot) => {
-                    g.record_overdraw(cx.rec, GpuDraws { gpu: f.gpu, slot, volumes: v, light: l as u32 });
-                }
-                VolumeSource::Host(None) => {}
-            }
-            cx.end_query(query);
-            cx.rec.end_rendering();
-            Ok(())
-        });
-        Some(query)
-    }
-
-    /// With diagnostics, a silhouette-map light's classification and silhouette points over
-    /// the frame's depth, copied out with its silhouette map.
-    fn declare_silhouette_diagnostics<'a>(
-        &'a self,
-        stage: &mut Stage<'a>,
-        f: FrameInputs<'a>,
-        light: &'a LightFrame,
-        reads: &[Use<'a>],
-    ) {
-        let l = light.light();
-        let (Some(targets), Some(out), Some(shadow_set)) =
-            (&self.diagnostic_targets, &f.bindings[l].silhouette_readback, &f.bindings[l].shadow_set)
-        else {
-            return;
-        };
-        let (class, points, depth) = (&targets.classification, &targets.points, f.depth);
-        let silmap = self.silhouette_map.image(Some(l));
-        let mut uses = vec![Use::Image(class, Color), Use::Image(points, Color), Use::Image(depth, Depth)];
-        uses.extend_from_slice(reads);
-        uses.extend([
-            Use::Readback(&out.classification),
-            Use::Readback(&out.points),
-            Use::Readback(&out.silhouette_map),
-        ]);
-        let surfaces = f.surfaces(light);
-        stage.pass(PassId::SilhouetteDiagnostics(l), &uses, move |cx| {
-            let color = [
-                ColorAttachment { image: class, clear: Some(crate::diagnostics::BACKGROUND) },
-                ColorAttachment { image: points, clear: Some([0.0; 4]) },
-            ];
-            cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(DepthAttachment::keep(depth)) });
-            self.silhouette_map.record_diagnostics(cx, &self.layout, surfaces, shadow_set);
-            cx.rec.end_rendering();
-            let src = ImageState::TransferSrc;
-            cx.enter(&[(class, src), (points, src), (silmap, src)]);
-            cx.rec.copy_image_to_buffer(class, 0, &out.classification);
-            cx.rec.copy_image_to_buffer(points, 0, &out.points);
-            cx.rec.copy_image_to_buffer(silmap, 0, &out.silhouette_map);
-            Ok(())
-        });
-    }
-
-    /// `readback`: the colour target (with `read_color`) and the overdraw image (when drawn)
-    /// copied out; the colour target is left ready for transfers either way
-    /// ([`Renderer::color_image`]).
-    fn declare_readback<'a>(&'a self, stage: &mut Stage<'a>, overdraw: bool) -> RenderResult<()> {
-        let src = ImageState::TransferSrc;
-        let own = self.own()?;
-        let mut uses = vec![Use::Image(&own.color, src)];
-        if let Some(readback) = &own.readback {
-            uses.push(Use::Readback(readback));
-        }
-        let overdraw = self.overdraw.as_ref().filter(|_| overdraw);
-        if let Some((image, readback)) = overdraw {
-            uses.extend([Use::Image(image, src), Use::Readback(readback)]);
-        }
-        stage.pass(PassId::Readback, &uses, move |cx| {
-            if let Some(readback) = &own.readback {
-                cx.rec.copy_image_to_buffer(&own.color, 0, readback);
-            }
-            if let Some((image, readback)) = overdraw {
-                cx.rec.copy_image_to_buffer(image, 0, readback);
-            }
             Ok(())
         });
         Ok(())

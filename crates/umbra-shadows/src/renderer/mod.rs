@@ -12,6 +12,7 @@
 mod bind;
 mod declare;
 mod desc;
+mod diagnostics;
 mod engine;
 mod lights;
 mod prepare;

@@ -10,10 +10,12 @@
 use super::build::LightVolumes;
 use super::gpu_frame::{GpuDraws, GpuVolumes, SlotVolumes};
 use super::pass::{ShadowVolumePass, VolumeBindings};
-use crate::frame::{PassId, Stage, Use};
-use crate::light_surfaces::{over_surfaces, LightSurfaces};
-use crate::visibility::VisibilityPass;
-use umbra_vk::{Buffer, BufferState, DepthAttachment, Image, ImageState, PipelineLayout, RenderTargets};
+use crate::frame::{PassId, PassRecorder, QueryId, Stage, Use};
+use crate::light_surfaces::LightSurfaces;
+use crate::visibility::{VisibilityPass, VisibilityTarget};
+use umbra_vk::{
+    Buffer, BufferState, ColorAttachment, DepthAttachment, Image, ImageState, PipelineLayout, RenderTargets,
+};
 
 /// Where a light's volumes are drawn from.
 #[derive(Clone, Copy)]
@@ -38,20 +40,38 @@ impl<'a> VolumeSource<'a> {
     }
 }
 
-/// What one shadow-volume light's passes read and write.
+/// One shadow-volume light's volumes, as its passes draw them.
 #[derive(Clone, Copy)]
 pub(crate) struct VolumeLight<'a> {
     /// The light's passes over the frame's surfaces.
     pub surfaces: LightSurfaces<'a, 'a>,
     /// The renderer's scene layout.
     pub layout: &'a PipelineLayout,
-    /// The frame's depth/stencil, where the volumes count.
-    pub depth: &'a Image,
-    /// The light's visibility image.
-    pub visibility: &'a Image,
     /// Its volumes and where they are drawn from.
     pub volumes: &'a LightVolumes,
     pub source: VolumeSource<'a>,
+}
+
+impl<'a> VolumeLight<'a> {
+    /// Draws the light's volumes inside `cx`'s open rendering pass: `host` with the frame's
+    /// vertices bound, or `gpu` with the draws the GPU built; nothing without volume vertices.
+    fn draw(
+        &self,
+        cx: &mut PassRecorder<'_, 'a>,
+        host: impl FnOnce(&mut PassRecorder<'_, 'a>, VolumeBindings<'a>),
+        gpu: impl FnOnce(&mut PassRecorder<'_, 'a>, &'a GpuVolumes, GpuDraws<'a, 'a>),
+    ) {
+        let s = self.surfaces;
+        match self.source {
+            VolumeSource::Host(Some(vertices)) => {
+                host(cx, VolumeBindings { layout: self.layout, gpu: s.gpu, vertices })
+            }
+            VolumeSource::Gpu(g, slot) => {
+                gpu(cx, g, GpuDraws { gpu: s.gpu, slot, volumes: self.volumes, light: s.light })
+            }
+            VolumeSource::Host(None) => {}
+        }
+    }
 }
 
 /// The frame's passes before any light's volumes are built on the GPU, when `any_light` builds
@@ -120,40 +140,62 @@ pub(crate) fn declare_gpu_stages<'a>(
     Some(VolumeSource::Gpu(g, slot))
 }
 
-/// Light `v`'s `shadow_volume N`, the stencil counts of its volumes (the stencil cleared, the
-/// frame's depth kept), then `visibility N (stencil)` resolving them into its visibility image.
-/// Nothing when it has no volumes to draw (`VolumeSource::Host(None)`).
+/// Light `v`'s `shadow_volume N`, the stencil counts of its volumes in the frame's depth (the
+/// stencil cleared, the depth kept), then `visibility N (stencil)` resolving them into its
+/// visibility image. The counts are empty without volume vertices.
 pub(crate) fn declare_light<'a>(
     stage: &mut Stage<'a>,
     pass: &'a ShadowVolumePass,
     resolve: &'a VisibilityPass,
     v: VolumeLight<'a>,
+    target: VisibilityTarget<'a>,
 ) {
-    let (s, l) = (v.surfaces, v.surfaces.light as usize);
-    let (depth, image) = (v.depth, v.visibility);
+    let (s, l, depth) = (v.surfaces, v.surfaces.light as usize, target.depth);
     let uses = [vec![Use::Image(depth, ImageState::DepthStencilAttachment)], v.source.reads()].concat();
     stage.pass(PassId::ShadowVolume(l), &uses, move |cx| {
         let stencil = DepthAttachment::clearing_stencil(depth, 0);
         cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(stencil) });
-        match v.source {
-            VolumeSource::Host(Some(vertices)) => {
-                let b = VolumeBindings { layout: v.layout, gpu: s.gpu, vertices };
-                pass.record_stencil(cx.rec, b, v.volumes, s.light, s.bounds, cx.log);
-            }
-            VolumeSource::Gpu(g, slot) => {
-                let draws = GpuDraws { gpu: s.gpu, slot, volumes: v.volumes, light: s.light };
-                g.record_stencil(cx.rec, draws, s.bounds, pass.fold(), cx.log);
-            }
-            VolumeSource::Host(None) => {}
-        }
+        v.draw(
+            cx,
+            |cx, b| pass.record_stencil(cx.rec, b, v.volumes, s.light, s.bounds, cx.log),
+            |cx, g, draws| g.record_stencil(cx.rec, draws, s.bounds, pass.fold(), cx.log),
+        );
         cx.rec.end_rendering();
         Ok(())
     });
-    let uses = [Use::Image(image, ImageState::ColorAttachment), Use::Image(depth, ImageState::DepthStencilAttachment)];
-    stage.pass(PassId::StencilVisibility(l), &uses, move |cx| {
-        over_surfaces(cx.rec, image, Some([0.0; 4]), depth);
+    stage.pass(PassId::StencilVisibility(l), &target.uses(), move |cx| {
+        target.begin(cx.rec);
         resolve.record_stencil(cx, v.layout, s);
         cx.rec.end_rendering();
         Ok(())
     });
+}
+
+/// With the overdraw diagnostic, light `v`'s volumes drawn into the overdraw image `image`
+/// (cleared by the `first` light), counted by the returned query: every fragment of every
+/// volume, as rasterised.
+pub(crate) fn declare_overdraw<'a>(
+    stage: &mut Stage<'a>,
+    pass: &'a ShadowVolumePass,
+    v: VolumeLight<'a>,
+    image: &'a Image,
+    first: bool,
+) -> QueryId {
+    let (s, l) = (v.surfaces, v.surfaces.light as usize);
+    let query = stage.queries(1);
+    let uses = [vec![Use::Image(image, ImageState::ColorAttachment)], v.source.reads()].concat();
+    stage.pass(PassId::VolumeOverdraw(l), &uses, move |cx| {
+        let clear = first.then_some([0.0; 4]);
+        cx.rec.begin_rendering(&RenderTargets { color: &[ColorAttachment { image, clear }], depth: None });
+        cx.begin_query(query);
+        v.draw(
+            cx,
+            |cx, b| pass.record_overdraw(cx.rec, b, v.volumes, s.light, cx.log),
+            |cx, g, draws| g.record_overdraw(cx.rec, draws),
+        );
+        cx.end_query(query);
+        cx.rec.end_rendering();
+        Ok(())
+    });
+    query
 }
