@@ -333,6 +333,9 @@ fn the_layers_point_down() {
         sccs.iter().map(Vec::len).sum::<usize>(),
         edges.len()
     );
+    for ((from, to), files) in &edges {
+        println!("  {from} → {to} ({} files)", files.len());
+    }
     for c in sccs.iter().filter(|c| c.len() > 1) {
         println!("cycle of {}: {}", c.len(), c.join(", "));
     }
