@@ -19,6 +19,36 @@ const TECHNIQUES: [&str; 5] = ["shadow_map", "shadow_volume", "ray_traced", "sil
 const PRIMITIVES: [&str; 3] = ["shadow_map", "shadow_volume", "ray_traced"];
 /// What no technique may import: the renderer, the engine API and the planner.
 const ABOVE_TECHNIQUES: [&str; 4] = ["renderer", "shadows", "plan", "auto"];
+/// Every folder-level module's layer, bottom up (docs/architecture.md's diagram): a module
+/// imports only from its own layer or below. A new module must be placed here.
+const LAYERS: [(&str, &[&str]); 6] = [
+    (
+        "core",
+        &[
+            "budget",
+            "error",
+            "frame",
+            "gpu_scene",
+            "mesh_buffers",
+            "mesh_cache",
+            "reach",
+            "retired",
+            "streams",
+            "targets",
+            "view",
+        ],
+    ),
+    ("shared passes", &["depth_rebuild", "diagnostics", "forward", "gbuffer", "light_surfaces", "visibility"]),
+    ("techniques", &TECHNIQUES),
+    ("planner", &["plan", "report", "technique"]),
+    ("renderer", &["renderer"]),
+    ("engine API", &["shadows"]),
+];
+
+/// The layer of folder-level module `module` (its index in [`LAYERS`]).
+fn layer(module: &str) -> Option<usize> {
+    LAYERS.iter().position(|(_, modules)| modules.contains(&module))
+}
 
 /// One `.rs` file of the crate: its folder-level module and its production code.
 struct Source {
@@ -357,6 +387,22 @@ fn the_layers_point_down() {
         upward.len(),
         cross.len()
     );
+    let mut unplaced = BTreeSet::new();
+    let mut downward_only = Vec::new();
+    for ((from, to), files) in &edges {
+        match (layer(from), layer(to)) {
+            (Some(f), Some(t)) if t > f => {
+                downward_only.push(format!("{from} ({}) → {to} ({}) in {files:?}", LAYERS[f].0, LAYERS[t].0))
+            }
+            (Some(_), Some(_)) => {}
+            (f, t) => {
+                unplaced.extend(f.is_none().then(|| from.clone()));
+                unplaced.extend(t.is_none().then(|| to.clone()));
+            }
+        }
+    }
+    assert!(unplaced.is_empty(), "folder-level modules in no layer (place them in LAYERS): {unplaced:?}");
+    assert!(downward_only.is_empty(), "imports that point up a layer: {downward_only:?}");
     let cyclic: Vec<_> = sccs.iter().filter(|c| c.len() > 1).collect();
     assert!(cyclic.is_empty(), "folder-level modules import one another in a cycle: {cyclic:?}");
     assert!(upward.is_empty(), "technique files import the renderer, engine API or planner: {upward:?}");

@@ -10,7 +10,6 @@ use crate::frame::timing::PassLog;
 use crate::frame::PassRecorder;
 use crate::gpu_scene::{self, GpuScene};
 use crate::light_surfaces::{LightSurfaces, PassBounds};
-use crate::shadow_map::ShadowMapSettings;
 use crate::RenderResult;
 use umbra_scene::Scene;
 use umbra_vk::{
@@ -80,7 +79,7 @@ impl Forward {
         layout: &PipelineLayout,
         color_format: vk::Format,
         depth_format: vk::Format,
-        shadow: &ShadowMapSettings,
+        lookup: [(u32, u32); 2],
         diagnostics: bool,
         depth_bounds: bool,
     ) -> RenderResult<Self> {
@@ -102,9 +101,8 @@ impl Forward {
         let light = light_pass("forward light (additive, visibility image)", true)?;
         let unshadowed = light_pass("forward light (additive, unshadowed)", false)?;
         let classes = if diagnostics {
-            let spec = shadow_spec(shadow);
             let frag = umbra_shaders::debug::LIGHT_CLASSES_FRAG;
-            let mut desc = surface_pass_desc("light diagnostics (classes)", frag, depth_format, &spec);
+            let mut desc = surface_pass_desc("light diagnostics (classes)", frag, depth_format, &lookup);
             desc.color_targets = &opaque;
             Some(GraphicsPipeline::new(ctx, layout, &desc)?)
         } else {
@@ -158,11 +156,6 @@ impl Forward {
         cx.rec.bind_descriptor_set(layout, 1, shadow_set);
         s.draw(cx, layout);
     }
-}
-
-/// The lighting shaders' specialization: shadow filter (0) and out-of-frustum policy (1).
-pub(crate) fn shadow_spec(shadow: &ShadowMapSettings) -> [(u32, u32); 2] {
-    [(0, shadow.filter.spec_value()), (1, u32::from(shadow.outside_lit))]
 }
 
 /// A pass over the scene's surfaces with `forward/mesh.vert` (bit-identical depth between

@@ -24,7 +24,6 @@ use crate::forward::{self, Bounded};
 use crate::frame::{PassId, PassRecorder, Stage, Use};
 use crate::light_surfaces::{over_surfaces, LightSurfaces};
 use crate::retired::Retired;
-use crate::shadow_map::ShadowMapSettings;
 use crate::{RenderError, RenderResult};
 use std::path::Path;
 use umbra_vk::{
@@ -151,7 +150,7 @@ impl VisibilityPass {
         layout: &PipelineLayout,
         set_layout: DescriptorSetLayout,
         depth_format: vk::Format,
-        shadow: &ShadowMapSettings,
+        lookup: [(u32, u32); 2],
         width: u32,
         height: u32,
         depth_bounds: bool,
@@ -167,9 +166,8 @@ impl VisibilityPass {
         let unshadowed_set =
             DescriptorSet::new(ctx, "visibility set (unshadowed)", &set_layout, &[read(&placeholder)])?;
         let target = [ColorTarget::opaque(VISIBILITY_FORMAT)];
-        let spec = forward::shadow_spec(shadow);
         let frag = umbra_shaders::visibility::MAP_FRAG;
-        let mut desc = forward::surface_pass_desc("visibility (map lookup)", frag, depth_format, &spec);
+        let mut desc = forward::surface_pass_desc("visibility (map lookup)", frag, depth_format, &lookup);
         desc.color_targets = &target;
         let map = Bounded::new(ctx, layout, &desc, depth_bounds)?;
         let stencil = |name, lit: bool, compare| -> RenderResult<Bounded> {

@@ -146,8 +146,8 @@ impl Renderer {
         let layout = PipelineLayout::new(ctx, "scene layout", &sets, push)?;
         // Bounded lights' depth bounds need the test in their pipelines.
         let bounds = desc.cull && caps.depth_bounds;
-        let forward =
-            Forward::new(ctx, &layout, COLOR_FORMAT, depth_format, &desc.shadow_map, desc.diagnostics, bounds)?;
+        let lookup = desc.shadow_map.lookup_spec();
+        let forward = Forward::new(ctx, &layout, COLOR_FORMAT, depth_format, lookup, desc.diagnostics, bounds)?;
         let shadow_map = ShadowMapPass::new(ctx, &layout, desc.shadow_map)?;
         if desc.shadow_volume.far_plane == FarPlane::DepthClamp && !caps.depth_clamp {
             return Err(ctx.unsupported("shadow volumes with FarPlane::DepthClamp (depthClamp)").into());
@@ -192,9 +192,9 @@ impl Renderer {
             }
             _ => None,
         };
-        let (width, height, shadow) = (desc.width, desc.height, &desc.shadow_map);
+        let (width, height) = (desc.width, desc.height);
         let visibility =
-            VisibilityPass::new(ctx, &layout, visibility_set_layout, depth_format, shadow, width, height, bounds)?;
+            VisibilityPass::new(ctx, &layout, visibility_set_layout, depth_format, lookup, width, height, bounds)?;
         let diagnostic_targets = if desc.diagnostics {
             Some(DiagnosticTargets {
                 classification: frame_target(ctx, "diagnostics: classification", desc.width, desc.height)?,

@@ -109,6 +109,12 @@ pub struct ShadowMapSettings {
 }
 
 impl ShadowMapSettings {
+    /// The map lookup's specialization constants, as every pass that looks a map up reads
+    /// them (`shadow_map/lookup.glsl`): the filter (0) and the out-of-frustum policy (1).
+    pub(crate) fn lookup_spec(&self) -> [(u32, u32); 2] {
+        [(0, self.filter.spec_value()), (1, u32::from(self.outside_lit))]
+    }
+
     /// Smallest accepted resolution.
     pub const MIN_RESOLUTION: u32 = 64;
 

@@ -73,7 +73,7 @@ impl SilhouetteMapPass {
         desc.color_targets = &target;
         let points = GraphicsPipeline::new(ctx, layout, &desc)?;
 
-        let spec = forward::shadow_spec(shadow);
+        let spec = shadow.lookup_spec();
         let diagnostics_frag = umbra_shaders::silhouette_map::DIAGNOSTICS_FRAG;
         let mut desc = forward::surface_pass_desc("silhouette map diagnostics", diagnostics_frag, depth_format, &spec);
         let targets = [ColorTarget::opaque(color_format), ColorTarget::opaque(color_format)];
