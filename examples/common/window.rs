@@ -28,8 +28,22 @@ use winit::window::{Window, WindowId};
 
 /// Shadow-map sizes `M` cycles through (`None`: the example's own).
 const MAP_SIZES: [Option<u32>; 5] = [Some(512), Some(1024), Some(2048), Some(4096), None];
-/// Techniques of keys 1–4: umbra's one table, in its order.
+/// Techniques of the number keys from 1: umbra's one table, in its order.
 const TECHNIQUES: &[Technique] = &Technique::SHADOWING;
+/// The number keys, from 1.
+const DIGITS: [KeyCode; 9] = [
+    KeyCode::Digit1,
+    KeyCode::Digit2,
+    KeyCode::Digit3,
+    KeyCode::Digit4,
+    KeyCode::Digit5,
+    KeyCode::Digit6,
+    KeyCode::Digit7,
+    KeyCode::Digit8,
+    KeyCode::Digit9,
+];
+// Every technique has its key.
+const _: () = assert!(TECHNIQUES.len() <= DIGITS.len());
 /// How often the title is refreshed.
 const TITLE_EVERY: Duration = Duration::from_millis(500);
 
@@ -394,21 +408,8 @@ impl Viewer {
         let s = &mut self.settings;
         match key {
             KeyCode::Escape => return false,
-            KeyCode::Digit1
-            | KeyCode::Digit2
-            | KeyCode::Digit3
-            | KeyCode::Digit4
-            | KeyCode::Digit5
-            | KeyCode::Digit6 => {
-                let keys = [
-                    KeyCode::Digit1,
-                    KeyCode::Digit2,
-                    KeyCode::Digit3,
-                    KeyCode::Digit4,
-                    KeyCode::Digit5,
-                    KeyCode::Digit6,
-                ];
-                let i = keys.iter().position(|&k| k == key).unwrap_or(0);
+            key if DIGITS[..TECHNIQUES.len()].contains(&key) => {
+                let i = DIGITS.iter().position(|&k| k == key).unwrap_or(0);
                 s.technique = Some(TECHNIQUES[i]);
                 self.message = None;
             }

@@ -6,14 +6,17 @@
 //! contribution by it; the accuracy measurements compare it with the exact reference
 //! ([`VisibilityImage::shadow_mask`]).
 //!
-//! Who writes it, per technique (`renderer/declare.rs`):
-//! - shadow maps and silhouette maps: `visibility N`, a pass over the frame's surfaces (depth
-//!   EQUAL, interpolated world positions) with the map lookup (`visibility/map.frag`);
-//! - shadow volumes: `visibility N (stencil)`, the same surfaces drawn twice through
-//!   complementary stencil tests, count 0 lit and any other count shadowed
-//!   (`visibility/stencil.frag`);
-//! - the hybrid: its classification writes the map-decided pixels, `hybrid visibility N` the
-//!   silhouette pixels from their stencil counts (`hybrid/classify.frag`, `hybrid/resolve.frag`).
+//! Who writes it, per technique:
+//! - shadow maps and silhouette maps: `visibility N` ([`declare_map_light`]), a pass over the
+//!   frame's surfaces (depth EQUAL, interpolated world positions) with the map lookup
+//!   (`visibility/map.frag`);
+//! - shadow volumes: `visibility N (stencil)` (`shadow_volume/frame.rs`), the same surfaces
+//!   drawn twice through complementary stencil tests, count 0 lit and any other count
+//!   shadowed (`visibility/stencil.frag`);
+//! - ray tracing: `visibility N (rays)` (`ray_traced/frame.rs`), a shadow ray per pixel;
+//! - the hybrid (`hybrid/frame.rs`): its classification writes the map-decided pixels,
+//!   `hybrid visibility N` the silhouette pixels from their stencil counts
+//!   (`hybrid/classify.frag`, `hybrid/resolve.frag`), or its rays.
 //!
 //! Each shadowed light has an image of its own (made when the light first needs it, kept while
 //! it does), so that every light's shadows are recorded before any light is lit, as an engine

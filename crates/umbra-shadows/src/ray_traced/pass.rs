@@ -162,7 +162,7 @@ impl RayPass {
         &self.set_layout
     }
 
-    /// Records light `light`'s shadow rays through the slot's BVH set (inside an open
+    /// Records the shadow rays of the light of `s` through the slot's BVH set (inside an open
     /// rendering pass with its visibility image as the one colour target and the frame's depth
     /// kept).
     pub fn record<'a>(

@@ -1,9 +1,10 @@
 //! The frame's passes, each declared into the frame graph (`record.rs` puts them in order):
 //! the mesh upload (when a mesh changed) and the lights' views (shadow maps, silhouette points,
 //! blocker culling); the renderer's own surfaces (`ambient`, the optional `g-buffer`); every
-//! recorded light's shadows (its technique's passes writing its visibility image, plus the
-//! diagnostics asked for); the renderer's own lights and `readback`. Each pass names the
-//! images it uses; the graph emits the barriers, labels and timestamps (`crate::frame`).
+//! recorded light's shadows (its technique's passes writing its visibility image, from the
+//! technique's own `frame.rs` or `visibility::declare_map_light`; the diagnostics asked for
+//! are `diagnostics.rs`'s); the renderer's own lights. Each pass names the images it uses; the
+//! graph emits the barriers, labels and timestamps (`crate::frame`).
 
 use super::lights::{LightBindings, LightFrame, LightQueries};
 use super::Renderer;

@@ -2,7 +2,7 @@
 //!
 //! [`texels::texel_pixel_ratio`] (a map's default size) and [`texels::receiver_texel_size`]
 //! (the report's texel size) sample 512 points per visible receiver box: about 2 ms a frame
-//! for 64 instances on 2 cores, the last host cost that grew with the scene (#26). Their answer
+//! for 64 instances on 2 cores, the last host cost that grew with the scene. Their answer
 //! depends only on the light's views, the receivers' seen boxes, the camera and the frame's
 //! height. Those inputs are kept as bits and compared exactly (`kept.rs`): a light none of them
 //! moved for is not sampled again, any change samples it anew, so the answer is always the one

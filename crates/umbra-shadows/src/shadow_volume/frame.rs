@@ -5,7 +5,9 @@
 //!   readback` for the report;
 //! - per light built on the GPU: `volume classify N` and `volume silhouettes N`;
 //! - per light: `shadow_volume N`, the stencil counts, then `visibility N (stencil)` resolving
-//!   them into the light's visibility image, which the lighting pass reads.
+//!   them into the light's visibility image, which the lighting pass reads;
+//! - with the overdraw diagnostic, per light: `volume overdraw N`, every volume fragment
+//!   counted into the overdraw image.
 
 use super::build::LightVolumes;
 use super::gpu_frame::{GpuDraws, GpuVolumes, SlotVolumes};

@@ -191,7 +191,7 @@ impl SilhouetteMapPass {
         Ok(())
     }
 
-    /// Draws the diagnostic views of light `light` (inside a rendering pass with the two
+    /// Draws the diagnostic views of the light of `s` (inside a rendering pass with the two
     /// diagnostic targets and the frame's depth), its maps bound through `shadow_set`.
     pub fn record_diagnostics<'a>(
         &'a self,
