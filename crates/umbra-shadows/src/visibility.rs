@@ -7,7 +7,7 @@
 //! ([`VisibilityImage::shadow_mask`]).
 //!
 //! Who writes it, per technique:
-//! - shadow maps and silhouette maps: `visibility N` ([`declare_map_light`]), a pass over the
+//! - shadow maps and silhouette maps: `visibility N` (`declare_map_light`), a pass over the
 //!   frame's surfaces (depth EQUAL, interpolated world positions) with the map lookup
 //!   (`visibility/map.frag`);
 //! - shadow volumes: `visibility N (stencil)` (`shadow_volume/frame.rs`), the same surfaces
