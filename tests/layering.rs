@@ -3,11 +3,13 @@
 //! module that defines the name), and the arrows the layering forbids.
 //!
 //! Every folder-level module has a layer ([`LAYERS`]: core, shared passes, techniques,
-//! planner, renderer, engine API). This fails on a module in no layer, on an import that points
-//! up a layer, on a technique importing a technique it may not ([`TECHNIQUE_USES`]: shadow
-//! maps, shadow volumes and ray tracing import none), and on any cycle between folder-level
-//! modules; so does a file of umbra-shadows over 500 lines besides its tests, or more than
-//! five long-argument-list allowances in the workspace.
+//! planner, technique set, renderer, engine API). This fails on a module in no layer, on an
+//! import that points up a layer, on a technique importing a technique it may not
+//! ([`TECHNIQUE_USES`]: shadow maps, shadow volumes and ray tracing import none), on any cycle
+//! between folder-level modules, and on a renderer file that names a technique's submodule
+//! (the renderer reaches techniques through the technique set, `techniques/`, and names at
+//! most a technique's settings); so does a file of umbra-shadows over 500 lines besides its
+//! tests, or more than five long-argument-list allowances in the workspace.
 //! `cargo test --test layering -- --nocapture` prints every arrow, then what breaks a rule.
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -26,7 +28,7 @@ const TECHNIQUE_USES: [(&str, &[&str]); 5] = [
 ];
 /// Every folder-level module's layer, bottom up (docs/architecture.md's diagram): a module
 /// imports only from its own layer or below. A new module must be placed here.
-const LAYERS: [(&str, &[&str]); 6] = [
+const LAYERS: [(&str, &[&str]); 7] = [
     (
         "core",
         &[
@@ -46,6 +48,7 @@ const LAYERS: [(&str, &[&str]); 6] = [
     ("shared passes", &["depth_rebuild", "diagnostics", "forward", "gbuffer", "light_surfaces", "visibility"]),
     ("techniques", &TECHNIQUES),
     ("planner", &["plan", "report", "technique"]),
+    ("technique set", &["techniques"]),
     ("renderer", &["renderer"]),
     ("engine API", &["shadows"]),
 ];
@@ -408,6 +411,42 @@ fn the_layers_point_down() {
     assert!(technique_uses.is_empty(), "techniques importing a technique they may not: {technique_uses:?}");
     let cyclic: Vec<_> = sccs.iter().filter(|c| c.len() > 1).collect();
     assert!(cyclic.is_empty(), "folder-level modules import one another in a cycle: {cyclic:?}");
+}
+
+#[test]
+fn the_renderer_reaches_techniques_through_the_seam() {
+    let sources = sources();
+    let submodules = |t: &str| -> BTreeSet<String> {
+        sources.iter().filter(|s| s.module.len() > 1 && s.module[0] == t).map(|s| s.module[1].clone()).collect()
+    };
+    let mut named = Vec::new();
+    let mut roots = BTreeSet::new();
+    for s in sources.iter().filter(|s| s.module.first().is_some_and(|m| m == "renderer")) {
+        let file = s.path.strip_prefix(src_dir()).unwrap().display().to_string();
+        for t in TECHNIQUES {
+            let subs = submodules(t);
+            for seg in first_segments(&s.code, &format!("crate::{t}::")) {
+                match subs.contains(&seg) || seg == "self" {
+                    true => named.push(format!("{file}: crate::{t}::{seg}")),
+                    false => drop(roots.insert(format!("{t}::{seg}"))),
+                }
+            }
+            // A technique imported whole and its submodule named through it.
+            for sub in &subs {
+                if s.code.contains(&format!("{t}::{sub}::"))
+                    && !named.iter().any(|n| n.ends_with(&format!("{t}::{sub}")))
+                {
+                    named.push(format!("{file}: {t}::{sub}::"));
+                }
+            }
+        }
+    }
+    println!("the renderer names of the techniques: {roots:?}; submodules: {}", named.len());
+    assert!(!roots.is_empty(), "the renderer names no technique's settings: the scan found nothing");
+    assert!(
+        named.is_empty(),
+        "renderer files that name a technique's submodule (go through crate::techniques): {named:?}"
+    );
 }
 
 /// Lines of `text` before its `#[cfg(test)] mod …` (the file's production code, comments and

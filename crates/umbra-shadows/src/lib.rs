@@ -37,6 +37,7 @@ pub mod silhouette_map;
 mod streams;
 mod targets;
 mod technique;
+mod techniques;
 mod view;
 pub mod visibility;
 

@@ -4,7 +4,6 @@
 use crate::budget::DEFAULT_SHADOW_MAP_BUDGET;
 use crate::diagnostics::{GBuffer, LightDiagnostics};
 use crate::gbuffer;
-use crate::hybrid::pass as hybrid_pass;
 use crate::hybrid::{HybridSettings, MaskKind};
 use crate::plan::auto::AutoPolicy;
 use crate::ray_traced::BvhLayout;
@@ -12,6 +11,7 @@ use crate::report::FrameReport;
 use crate::shadow_map::ShadowMapSettings;
 use crate::shadow_volume::ShadowVolumeSettings;
 use crate::targets::{depth_desc, COLOR_FORMAT};
+use crate::techniques;
 use crate::visibility::VisibilityImage;
 use crate::{RenderError, RenderResult};
 use std::path::Path;
@@ -190,16 +190,12 @@ pub(crate) fn check_frame_size(
             limit: None,
         });
     }
-    let (classes, masked_depth) = hybrid_pass::target_descs(depth_format, width, height);
     let mut images = vec![
         ("colour target", frame_target_desc(width, height)),
         ("depth/stencil target", depth_desc(depth_format, width, height)),
-        ("hybrid silhouette classes", classes),
         ("visibility image", crate::visibility::image_desc(width, height, false)),
     ];
-    if mask == MaskKind::DepthBounds {
-        images.push(("hybrid masked depth", masked_depth));
-    }
+    images.extend(techniques::frame_images(depth_format, width, height, mask));
     if desc.gbuffer {
         images.push(("g-buffer", gbuffer::target_desc(width, height)));
     }

@@ -3,12 +3,12 @@
 //! engine's depth and ended by the hand-off; no submission, no wait, no readback. Blocker culling, which needs a
 //! query result mid-frame, is off (`Shadows::new` refuses it), and so are the diagnostics.
 
-use super::lights::FrameView;
 use super::record::Output;
 use super::slot::FrameSlot;
 use super::Renderer;
 use crate::frame::timing::PassReport;
 use crate::plan::LightPlan;
+use crate::techniques::FrameView;
 use crate::view::View;
 use crate::RenderResult;
 use umbra_scene::Scene;
@@ -77,11 +77,7 @@ impl Renderer {
         let lights = r
             .lights
             .into_iter()
-            .map(|l| RecordedLight {
-                shadowed: queries[l.light()].shadowed,
-                map: l.map.as_ref().is_some_and(|m| m.depth),
-                plan: l.plan,
-            })
+            .map(|l| RecordedLight { shadowed: queries[l.light()].shadowed, map: l.map_drawn(), plan: l.plan })
             .collect();
         Ok(RecordedFrame { lights, passes: r.run.recorded, geometry_uploaded_bytes: r.geometry_uploaded })
     }
@@ -102,7 +98,7 @@ impl Renderer {
 
     /// Light `light`'s shadow map (while it has one).
     pub(crate) fn shadow_map_image(&self, light: usize) -> RenderResult<&Image> {
-        self.shadow_map.image(light)
+        self.techniques.shadow_map_image(light)
     }
 }
 

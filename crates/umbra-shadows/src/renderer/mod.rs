@@ -9,14 +9,11 @@
 //! graph; the [`FrameReport`] lists them by name and the graph keys them by
 //! [`crate::frame::PassId`].
 
-mod bind;
 mod declare;
 mod desc;
 mod diagnostics;
 mod engine;
-mod lights;
 mod prepare;
-mod ray_stats;
 mod record;
 mod results;
 mod slot;
@@ -30,19 +27,12 @@ use crate::diagnostics::DiagnosticTargets;
 use crate::forward::Forward;
 use crate::gbuffer::GBufferPass;
 use crate::gpu_scene::{self, SceneCounts, SceneGeometry};
-use crate::hybrid::pass::HybridPass;
-use crate::hybrid::rays::HybridRays;
 use crate::hybrid::MaskKind;
 use crate::mesh_cache::MeshCache;
-use crate::ray_traced::pass::RayPass;
-use crate::ray_traced::stats::RayStats;
-use crate::shadow_map::pass::{self, ShadowMapPass};
-use crate::shadow_volume::pass::{ShadowVolumePass, VolumeInput};
-use crate::shadow_volume::FarPlane;
-use crate::silhouette_map::pass::SilhouetteMapPass;
 use crate::targets::{depth_desc, COLOR_FORMAT};
+use crate::techniques::{self, LightReadbacks, Setup, Techniques};
 use crate::visibility::{self, VisibilityPass};
-use crate::{RenderError, RenderResult};
+use crate::RenderResult;
 use desc::{check_frame_size, frame_target};
 use record::Output;
 use std::sync::Arc;
@@ -61,32 +51,13 @@ pub struct Renderer {
     shadow_set_layout: DescriptorSetLayout,
     layout: PipelineLayout,
     forward: Forward,
-    shadow_map: ShadowMapPass,
-    shadow_volume: ShadowVolumePass,
-    silhouette_map: SilhouetteMapPass,
-    hybrid: HybridPass,
-    /// Ray-traced lights' BVH and shadow rays.
-    rays: RayPass,
-    /// The ray-traced hybrid's pipelines and ray list (`None` where the device cannot run it:
-    /// [`crate::visibility::storage_supported`]).
-    hybrid_rays: Option<HybridRays>,
-    /// The shadow rays' counted twins and counters (with `diagnostics`, in umbra's own frames).
-    ray_stats: Option<RayStats>,
+    /// Every technique's pipelines and caches: the one seam to them.
+    pub(crate) techniques: Techniques,
     /// The scene's meshes as last validated and measured, by revision (checked every frame,
     /// read again only when one changed).
     pub(crate) checked: CheckedMeshes,
-    /// Each light's receiver grid samples, kept while their inputs do not change.
-    grid_samples: crate::shadow_map::samples::GridSamples,
-    /// Every map light's fitted views, kept while their inputs are the same bits.
-    fits: crate::shadow_map::fits::Fits,
     /// The visibility image every shadowed light's technique writes and its lighting reads.
     visibility: VisibilityPass,
-    /// How volume vertices reach the GPU: as built, or clipped to the view on the host.
-    volume_input: VolumeInput,
-    /// Shadow volumes built on the GPU (`shadow_volume.build`: `VolumeBuild::Gpu`).
-    gpu_volumes: Option<crate::shadow_volume::gpu_frame::GpuVolumes>,
-    /// The computation mask of hybrid lights (`desc.hybrid.mask`, or the device's best).
-    mask: MaskKind,
     /// Classification and silhouette-point targets (with `diagnostics`).
     diagnostic_targets: Option<DiagnosticTargets>,
     /// Welded connectivity per mesh, kept while the mesh keeps its revision.
@@ -96,12 +67,10 @@ pub struct Renderer {
     /// Per mesh, the engine's buffers it is copied from instead of its CPU data (engine only:
     /// `Shadows::add_mesh_buffers`).
     pub(crate) engine_meshes: Vec<Option<crate::mesh_buffers::MeshBuffers>>,
-    /// The engine's meshes that deform on the GPU (`Shadows::add_deforming_mesh`).
-    pub(crate) deforming: crate::shadow_volume::deform::Deforming,
     /// The frame's host-written buffers, sets and query pools, kept between frames.
     slot: FrameSlot,
     /// Per light, its diagnostic readbacks (with `diagnostics`), kept while they fit.
-    readbacks: Vec<lights::LightReadbacks>,
+    readbacks: Vec<LightReadbacks>,
     /// Volume overdraw target and its readback (with `shadow_volume.overdraw`).
     overdraw: Option<(Image, Buffer)>,
     /// The G-buffer pass (with `gbuffer`).
@@ -132,14 +101,11 @@ impl Renderer {
     fn build(ctx: &Context, desc: RendererDesc, depth_format: vk::Format, own: bool) -> RenderResult<Self> {
         let caps = ctx.capabilities();
         desc.shadow_map.validate()?;
-        let mask = desc.hybrid.mask.unwrap_or(MaskKind::best_for(caps.depth_bounds));
-        if mask == MaskKind::DepthBounds && !caps.depth_bounds {
-            return Err(ctx.unsupported("the hybrid's depth-bounds computation mask (depthBounds)").into());
-        }
+        let mask = techniques::mask_for(ctx, &desc.hybrid)?;
         check_frame_size(ctx, &desc, depth_format, mask)?;
         let own = own.then(|| OwnTargets::new(ctx, depth_format, &desc)).transpose()?;
         let scene_set_layout = gpu_scene::scene_set_layout(ctx)?;
-        let shadow_set_layout = pass::shadow_set_layout(ctx)?;
+        let shadow_set_layout = techniques::shadow_set_layout(ctx)?;
         let visibility_set_layout = visibility::set_layout(ctx)?;
         let push = std::mem::size_of::<gpu_scene::DrawPush>() as u32;
         let sets = [&scene_set_layout, &shadow_set_layout, &visibility_set_layout];
@@ -148,50 +114,22 @@ impl Renderer {
         let bounds = desc.cull && caps.depth_bounds;
         let lookup = desc.shadow_map.lookup_spec();
         let forward = Forward::new(ctx, &layout, COLOR_FORMAT, depth_format, lookup, desc.diagnostics, bounds)?;
-        let shadow_map = ShadowMapPass::new(ctx, &layout, desc.shadow_map)?;
-        if desc.shadow_volume.far_plane == FarPlane::DepthClamp && !caps.depth_clamp {
-            return Err(ctx.unsupported("shadow volumes with FarPlane::DepthClamp (depthClamp)").into());
-        }
-        let volume_input = match desc.shadow_volume.host_clip.applies(caps.watertight_clipping) {
-            true => VolumeInput::HostClipped,
-            false => VolumeInput::Built,
+        let setup = Setup {
+            width: desc.width,
+            height: desc.height,
+            shadow_map: desc.shadow_map,
+            shadow_volume: desc.shadow_volume,
+            hybrid: desc.hybrid,
+            bvh: desc.bvh,
+            cull: desc.cull,
+            diagnostics: desc.diagnostics,
+            read_visibility: desc.read_visibility,
+            budget_bytes: desc.shadow_map_budget_bytes,
+            own: own.is_some(),
+            depth_format,
         };
-        let shadow_volume =
-            ShadowVolumePass::new(ctx, &layout, depth_format, &desc.shadow_volume, bounds, volume_input)?;
-        let gpu_volumes =
-            gpu_volumes(ctx, &desc, &scene_set_layout, depth_format, volume_input, bounds, own.is_some())?;
-        let silhouette_map = SilhouetteMapPass::new(ctx, &layout, COLOR_FORMAT, depth_format, &desc.shadow_map)?;
-        let clamp = desc.shadow_volume.far_plane == FarPlane::DepthClamp;
-        let hybrid =
-            HybridPass::new(ctx, &layout, depth_format, &scene_set_layout, &desc.shadow_map, clamp, volume_input)?;
-        let hybrid = match &gpu_volumes {
-            Some(g) => hybrid.with_gpu_volumes(ctx, g, clamp, desc.shadow_volume.overdraw)?,
-            None => hybrid,
-        };
-        let rays = RayPass::new(ctx, &scene_set_layout, depth_format, bounds, desc.bvh)?;
-        let hybrid_rays = match crate::hybrid::rays::supported(caps) {
-            true => Some(HybridRays::new(
-                ctx,
-                &scene_set_layout,
-                &shadow_set_layout,
-                rays.set_layout(),
-                depth_format,
-                &desc.shadow_map,
-                desc.bvh,
-            )?),
-            false => None,
-        };
-        let ray_stats = match (desc.diagnostics, &own) {
-            (true, Some(_)) => {
-                let listed = hybrid_rays.as_ref().map(|h| {
-                    let [list, output] = h.set_layouts();
-                    [rays.set_layout(), list, output]
-                });
-                let bvh = (rays.set_layout(), desc.bvh);
-                Some(RayStats::new(ctx, &scene_set_layout, bvh, listed, depth_format, bounds)?)
-            }
-            _ => None,
-        };
+        let layouts = [&scene_set_layout, &shadow_set_layout];
+        let techniques = Techniques::new(ctx, setup, layouts, &layout, mask, bounds)?;
         let (width, height) = (desc.width, desc.height);
         let visibility =
             VisibilityPass::new(ctx, &layout, visibility_set_layout, depth_format, lookup, width, height, bounds)?;
@@ -231,25 +169,13 @@ impl Renderer {
             shadow_set_layout,
             layout,
             forward,
-            shadow_map,
-            shadow_volume,
-            silhouette_map,
-            hybrid,
-            rays,
-            hybrid_rays,
-            ray_stats,
+            techniques,
             checked: CheckedMeshes::default(),
-            grid_samples: Default::default(),
-            fits: Default::default(),
             visibility,
-            volume_input,
-            gpu_volumes,
-            mask,
             diagnostic_targets,
             meshes: MeshCache::default(),
             geometry: None,
             engine_meshes: Vec::new(),
-            deforming: Default::default(),
             slot,
             readbacks: Vec::new(),
             overdraw,
@@ -277,7 +203,7 @@ impl Renderer {
 
     /// The computation mask hybrid lights use on this device.
     pub fn mask(&self) -> MaskKind {
-        self.mask
+        self.techniques.mask()
     }
 
     /// Renders one frame of `scene` and reads it back.
@@ -359,45 +285,4 @@ fn no_targets() -> crate::RenderError {
         field: "Renderer::render".into(),
         why: "this renderer records into an engine's frame (Shadows::record) and has no targets of its own".into(),
     }
-}
-
-/// The GPU path of shadow volumes, when `desc` asks for it: refused (naming the setting) where
-/// the device needs volumes clipped on the host, or on a graphics queue that runs no compute.
-/// With `own` (the renderer's own frames) the counts are read back for the report.
-fn gpu_volumes(
-    ctx: &Context,
-    desc: &RendererDesc,
-    scene_set_layout: &DescriptorSetLayout,
-    depth_format: vk::Format,
-    input: VolumeInput,
-    bounds: bool,
-    own: bool,
-) -> RenderResult<Option<crate::shadow_volume::gpu_frame::GpuVolumes>> {
-    let settings = &desc.shadow_volume;
-    if settings.build != crate::VolumeBuild::Gpu {
-        return Ok(None);
-    }
-    let refuse = |why: &str| {
-        Err(RenderError::InvalidInput { field: "shadow_volume.build".into(), why: format!("VolumeBuild::Gpu {why}") })
-    };
-    if input == VolumeInput::HostClipped {
-        return refuse(
-            "cannot clip volumes on the host, which this device needs (set host_clip to Never to draw them unclipped)",
-        );
-    }
-    if !ctx.capabilities().compute_queue {
-        return refuse(&format!("needs compute on the graphics queue, which {} lacks", ctx.capabilities().device_name));
-    }
-    let clamp = settings.far_plane == FarPlane::DepthClamp;
-    let overdraw = settings.overdraw;
-    let volumes = crate::shadow_volume::gpu_frame::GpuVolumes::new(
-        ctx,
-        scene_set_layout,
-        depth_format,
-        clamp,
-        bounds,
-        own,
-        overdraw,
-    )?;
-    Ok(Some(volumes))
 }

@@ -1,43 +1,22 @@
-//! The CPU half of a frame, per light and per technique: plan, fit and size the shadow maps
-//! (checked against the device and the budget before any is made), extract silhouette edges,
-//! build shadow volumes, list blocker boxes, and upload what changed.
+//! The CPU half of a frame: its view, the plan, each light's technique prepared
+//! (`crate::techniques`), and the scene uploaded where it changed.
 
-use super::lights::{FrameView, LightFrame};
 use super::Renderer;
-use crate::budget;
-use crate::error::ShadowStorage;
-use crate::gpu_scene::{GpuScene, GpuShadow};
-use crate::hybrid::cull::{self, CullingPlan};
-use crate::hybrid::MaskKind;
-use crate::plan::{plan_frame, tally, CullReason, PlanInput, RayTracedReport, ShadowMapReport, SilhouetteMapReport};
-use crate::shadow_map::texels;
-use crate::shadow_map::DepthBias;
-use crate::shadow_map::MapFrame;
-use crate::shadow_volume::build::{self as volumes};
-use crate::shadow_volume::clip;
-use crate::shadow_volume::pass::VolumeInput;
-use crate::shadow_volume::FarPlane;
-use crate::silhouette_map::edges;
-use crate::streams::Streams;
-use crate::technique::{needs, MapSize, Volumes};
+use crate::gpu_scene::GpuScene;
+use crate::plan::{plan_frame, PlanInput};
+use crate::techniques::{FrameView, LightFrame, Techniques};
 use crate::view::View;
-use crate::{RenderError, RenderResult};
+use crate::RenderResult;
 use glam::Mat4;
 use std::sync::Arc;
 use umbra_scene::{Adjacency, Scene};
-use umbra_vk::Image;
 
 impl Renderer {
-    /// The camera and bounds of a frame of `scene`. Shadow volumes reach infinity: the frame
-    /// uses `P_inf` unless depth clamp does the job, decided from what the scene asks for
-    /// (`auto` may pick the hybrid), not from the plan, so that culling never changes the depth.
+    /// The camera and bounds of a frame of `scene`: the camera its techniques ask for
+    /// ([`Techniques::camera`]).
     pub(super) fn frame_view(&self, scene: &Scene) -> FrameView {
         let aspect = self.desc.width as f32 / self.desc.height as f32;
-        let asks_volumes = scene.lights.iter().any(|l| needs(l.technique).infinite_camera);
-        let camera = match asks_volumes {
-            true => volumes::volume_camera(&scene.camera, self.desc.shadow_volume.far_plane == FarPlane::Infinite),
-            false => scene.camera,
-        };
+        let camera = self.techniques.camera(scene);
         FrameView { view: View::of_camera(&camera, aspect), boxes: scene.object_bounds_with(&self.checked) }
     }
 
@@ -51,317 +30,15 @@ impl Renderer {
                 size: (self.desc.width, self.desc.height),
                 cull: self.desc.cull,
                 depth_bounds: self.desc.cull && self.ctx.capabilities().depth_bounds,
-                map_resolution: self.shadow_map.settings().resolution,
+                map_resolution: self.techniques.shadow_map_settings().resolution,
                 auto: self.auto_policy(),
             },
         )?;
-        Ok(plans
-            .into_iter()
-            .map(|plan| LightFrame { plan, map: None, edges: None, volumes: None, rays: false, culled_blockers: None })
-            .collect())
-    }
-
-    /// Shadow maps (also the depth maps of silhouette maps and the hybrid): every light's views
-    /// and map size, each checked against the device and all together against the budget, then
-    /// the maps themselves and, for silhouette maps, the edges. Returns every map's views, in
-    /// light order (the shadow-view buffer).
-    pub(super) fn prepare_maps(
-        &mut self,
-        scene: &Scene,
-        view: &FrameView,
-        adjacency: &[Arc<Adjacency>],
-        lights: &mut [LightFrame],
-        streams: &mut Streams,
-    ) -> RenderResult<Vec<Mat4>> {
-        let mut fitted = self.fit_maps(scene, view, lights)?;
-        let keep: Vec<bool> = fitted.iter().map(|m| m.as_ref().is_some_and(|m| m.depth)).collect();
-        self.shadow_map.keep_only(&keep, &mut self.slot.retired);
-        let silhouette: Vec<bool> = fitted.iter().map(|m| m.as_ref().is_some_and(|m| m.silhouette)).collect();
-        self.silhouette_map.keep_only(&silhouette, &mut self.slot.retired);
-        let settings = *self.shadow_map.settings();
-        let mut shadow_views = Vec::new();
-        let mut edge_instances = Vec::new();
-        for (light, map) in lights.iter_mut().zip(&mut fitted) {
-            let Some(mut map) = map.take() else { continue };
-            let (l, resolution, views) = (light.light(), map.resolution, &map.views);
-            let seen = view.seen(self.desc.height);
-            let source = &scene.lights[l];
-            if map.depth {
-                self.shadow_map.prepare(&self.ctx, l, resolution, views.kind, &mut self.slot.retired)?;
-            }
-            // Texels per side of one view: a face atlas's faces have their borders too.
-            let side = views.kind.view_side(resolution);
-            map.shadow = GpuShadow {
-                kind: views.kind.shader_kind(map.silhouette),
-                first_view: shadow_views.len() as u32,
-                normal_offset: settings.normal_offset,
-                texel: 1.0 / side as f32,
-                near: views.near,
-                far: views.far,
-            };
-            light.plan.shadow_map = Some(ShadowMapReport {
-                resolution,
-                cube: views.kind.is_cube(),
-                near: views.near,
-                far: views.far,
-                casters: views.casters.len(),
-                texel_size: (source.position.w == 0.0).then(|| texels::texel_size(views.views[0], resolution)),
-                receiver_texel_size: self.grid_samples.receiver_texel_size(l, views, side, seen),
-                view_proj: views.views.clone(),
-                view_texels: side,
-            });
-            if map.silhouette {
-                self.silhouette_map.prepare(&self.ctx, l, resolution, views.kind, &mut self.slot.retired)?;
-                let e = edges::extract(scene, adjacency, &views.casters, source, &mut edge_instances);
-                light.plan.silhouette_map = Some(SilhouetteMapReport {
-                    resolution,
-                    silhouette_edges: e.count as usize,
-                    cpu_extract_ms: e.cpu_ms,
-                    silhouette_pixels: None,
-                    silhouette_fraction: None,
-                });
-                light.edges = Some(e);
-            }
-            let clamp_texels = match (settings.bias.clamp_texels, map.silhouette) {
-                (Some(t), _) => Some(t),
-                (None, true) => Some(DepthBias::SILHOUETTE_CLAMP_TEXELS),
-                (None, false) => None,
-            };
-            if let (Some(texels), true) = (clamp_texels, self.ctx.capabilities().depth_bias_clamp) {
-                map.bias_clamp = texels::bias_clamp(views.views[0], side, texels);
-            }
-            shadow_views.extend_from_slice(&views.views);
-            light.map = Some(map);
-        }
-        streams.edges.fill(&self.ctx, &edge_instances)?;
-        Ok(shadow_views)
-    }
-
-    /// Every map-using light's views and map size, checked against the device, and what they
-    /// take together against the budget; nothing is allocated here.
-    fn fit_maps(
-        &mut self,
-        scene: &Scene,
-        view: &FrameView,
-        lights: &mut [LightFrame],
-    ) -> RenderResult<Vec<Option<MapFrame>>> {
-        let settings = *self.shadow_map.settings();
-        let uses_map = |l: &LightFrame| l.plan.recorded && l.plan.shadowed && needs(l.plan.technique).map.is_some();
-        let mut fitted: Vec<Option<MapFrame>> = (0..lights.len()).map(|_| None).collect();
-        let mut storage = Vec::new();
-        for light in lights.iter_mut().filter(|l| uses_map(l)) {
-            let plan = &mut light.plan;
-            let source = &scene.lights[plan.light];
-            let Some(mut views) = self.fits.fit(plan.light, source, scene, &view.boxes, view.view.view_proj) else {
-                plan.note = Some("no caster can shadow a visible receiver: no shadow map rendered".into());
-                continue;
-            };
-            let silhouette = needs(plan.technique).silhouette;
-            let set = match needs(plan.technique).map {
-                Some(MapSize::Hybrid) => self.desc.hybrid.resolution,
-                Some(MapSize::Settings) | None => settings.resolution,
-            };
-            let resolution = source.shadow_map_size.or(set).unwrap_or_else(|| {
-                self.grid_samples.resolution_from_frame(
-                    plan.light,
-                    &views,
-                    view.seen(self.desc.height),
-                    self.desc.width,
-                )
-            });
-            if silhouette {
-                // A cube's silhouette map: six faces with borders in one atlas (`atlas.rs`).
-                views.widen_to_face_atlas(resolution);
-            }
-            if self.desc.cull {
-                // The fit saw every caster (so the map's frustum is the same either way); only
-                // the planned ones are drawn, each into the views it may touch.
-                views.casters.retain(|c| plan.map_casters.contains(c));
-                let out = views.cull_per_view(&view.boxes);
-                tally(&mut plan.culled, CullReason::OutsideMapView, out);
-            }
-            let map_bytes = self.shadow_map.check(&self.ctx, plan.light, resolution, views.kind)?;
-            // The hybrid's depth bounds: two layers per face of the map's D32 depth; its depth
-            // map only where blocker culling queries it.
-            let bounds = needs(plan.technique).map == Some(MapSize::Hybrid);
-            let volumes = needs(plan.technique).volumes.is_some();
-            let depth = !bounds || (self.desc.hybrid.cull_blockers && volumes);
-            let mut bytes = if depth { map_bytes } else { 0 };
-            if silhouette {
-                let map = self.silhouette_map.check(&self.ctx, plan.light, resolution, views.kind)?;
-                // With diagnostics the map is also read back, as many bytes again.
-                bytes += if self.diagnostic_targets.is_some() { 2 * map } else { map };
-            }
-            if bounds {
-                bytes += u64::from(crate::hybrid::bounds::LAYERS_PER_FACE) * map_bytes;
-            }
-            let cube = views.kind.is_cube();
-            // A silhouette map's cube faces carry borders in its atlas.
-            let face_side =
-                if cube && silhouette { crate::shadow_map::atlas::face_side(resolution) } else { resolution };
-            storage.push(ShadowStorage {
-                light: plan.light,
-                resolution,
-                face_side,
-                cube,
-                depth,
-                silhouette,
-                bounds,
-                bytes,
-            });
-            fitted[plan.light] = Some(MapFrame::new(views, resolution, silhouette, depth));
-        }
-        budget::check(&storage, self.desc.shadow_map_budget_bytes)?;
-        Ok(fitted)
-    }
-
-    /// Shadow volumes: every caster's volume per light (z-fail only for hybrid lights,
-    /// Chan–Durand §3 step 3; none for a hybrid light without a map), built on the CPU, or with
-    /// `VolumeBuild::Gpu` named as jobs of the GPU path.
-    pub(super) fn prepare_volumes(
-        &mut self,
-        scene: &Scene,
-        view: &FrameView,
-        adjacency: &[Arc<Adjacency>],
-        lights: &mut [LightFrame],
-        streams: &mut Streams,
-    ) -> RenderResult<()> {
-        let mut vertices = Vec::new();
-        let mut jobs = Vec::new();
-        let mut next = (0u32, 0u32);
-        let depth_precision =
-            lights.iter().any(|l| needs(l.plan.technique).volumes.is_some()).then(|| view.depth_precision()).flatten();
-        for light in lights.iter_mut() {
-            let plan = &light.plan;
-            let shadowed = plan.recorded && plan.shadowed;
-            let wanted = match needs(plan.technique).volumes {
-                Some(Volumes::Settings) if shadowed => Volumes::Settings,
-                Some(Volumes::ZFailWithMap) if shadowed && light.map.is_some() => Volumes::ZFailWithMap,
-                _ => continue,
-            };
-            let mode = wanted.mode(self.desc.shadow_volume.mode);
-            let casters = volumes::LightCasters {
-                scene,
-                casters: &plan.volume_casters,
-                adjacency,
-                boxes: &view.boxes,
-                light: &scene.lights[plan.light],
-                view: &view.view,
-                mode,
-            };
-            if let Some(g) = self.gpu_volumes.as_mut() {
-                g.prepare_arrays(&self.ctx, adjacency, self.deforming.streams(), &mut self.slot.retired)?;
-                let v = volumes::jobs_for_light(casters, g.ranges(), &mut jobs, &mut next);
-                light.volumes = Some(volumes::LightVolumes { depth_precision, ..v });
-                continue;
-            }
-            let v = volumes::build_light(casters, &mut vertices);
-            light.volumes = Some(volumes::LightVolumes { depth_precision, ..v });
-        }
-        if let (Some(g), false) = (self.gpu_volumes.as_mut(), jobs.is_empty()) {
-            streams.volume_draws.fill(&self.ctx, &crate::shadow_volume::gpu::draw_resets(&jobs))?;
-            let retired = &mut self.slot.retired;
-            g.prepare_written(&self.ctx, u64::from(next.0), u64::from(next.1), jobs.len() as u64, retired)?;
-            streams.volume_jobs.fill(&self.ctx, &jobs)?;
-            if let Some(buffer) = streams.volume_jobs.buffer() {
-                let generation = streams.volume_jobs.generation();
-                g.prepare_slot(&self.ctx, &mut self.slot.volumes, buffer, generation, retired)?;
-            }
-        }
-        if self.volume_input == VolumeInput::Built {
-            streams.volumes.fill(&self.ctx, &vertices)?;
-            return Ok(());
-        }
-        // Drivers whose clipping is not watertight: every light's volumes cut to the view here.
-        let (mut clipped, mut cut_caps) = (Vec::new(), Vec::new());
-        for light in lights.iter_mut() {
-            let position = scene.lights[light.light()].position;
-            if let Some(v) = light.volumes.as_mut() {
-                let started = std::time::Instant::now();
-                clip::clip_light(
-                    scene,
-                    position,
-                    view.view.view_proj,
-                    &vertices,
-                    &mut v.casters,
-                    &mut clipped,
-                    &mut cut_caps,
-                );
-                v.cpu_ms += started.elapsed().as_secs_f64() * 1e3;
-                v.host_clipped = true;
-            }
-        }
-        streams.volumes.fill(&self.ctx, &clipped)?;
-        Ok(())
-    }
-
-    /// Ray-traced lights (`crate::ray_traced`): every shadowed one casts rays, through the
-    /// scene's BVH brought up to date (meshes built again only when their revision changed, the
-    /// top level when a caster moved) and uploaded when it changed.
-    pub(super) fn prepare_rays(
-        &mut self,
-        scene: &Scene,
-        lights: &mut [LightFrame],
-        streams: &mut Streams,
-    ) -> RenderResult<()> {
-        let mut any = false;
-        for light in lights.iter_mut() {
-            light.rays = needs(light.plan.technique).rays && light.plan.recorded && light.plan.shadowed;
-            any |= light.rays;
-            if light.hybrid_rays() && self.hybrid_rays.is_none() {
-                return Err(RenderError::UnsupportedLight {
-                    light: light.light(),
-                    technique: light.plan.technique,
-                    why: crate::hybrid::rays::UNSUPPORTED.into(),
-                });
-            }
-        }
-        if !any {
-            return Ok(());
-        }
-        self.rays.prepare(&self.ctx, scene, streams, &mut self.slot.rays, &mut self.slot.retired)?;
-        if let Some(stats) = self.ray_stats.as_mut() {
-            stats.prepare(&self.ctx, lights.len(), &mut self.slot.retired)?;
-        }
-        let report = RayTracedReport::of(self.rays.scene(), self.ctx.capabilities().ray_query);
-        for light in lights.iter_mut().filter(|l| l.rays) {
-            light.plan.ray_traced = Some(report);
-        }
-        Ok(())
-    }
-
-    /// Blocker culling (Chan–Durand §6.3, with `hybrid.cull_blockers`): one box per caster of
-    /// every hybrid light with a 2D map.
-    pub(super) fn plan_culling(
-        &self,
-        scene: &Scene,
-        view: &FrameView,
-        lights: &[LightFrame],
-        streams: &mut Streams,
-    ) -> RenderResult<CullingPlan> {
-        let mut culling = CullingPlan::default();
-        if self.desc.hybrid.cull_blockers && self.desc.cull {
-            for light in lights.iter().filter(|l| l.hybrid()) {
-                let (Some(v), Some(map)) = (&light.volumes, &light.map) else { continue };
-                if map.views.kind.is_cube() {
-                    continue;
-                }
-                for (i, c) in v.casters.iter().enumerate() {
-                    if let Some(b) = view.boxes.get(c.object).copied().flatten() {
-                        if cull::queryable(&scene.lights[light.light()], &b) {
-                            cull::box_triangles(&b, &mut culling.vertices);
-                            culling.boxes.push((light.light(), i));
-                        }
-                    }
-                }
-            }
-        }
-        streams.blockers.fill(&self.ctx, &culling.vertices)?;
-        Ok(culling)
+        Ok(plans.into_iter().map(LightFrame::new).collect())
     }
 
     /// The scene on the GPU: meshes uploaded again only when one changed, per-frame buffers
-    /// rewritten in place; and the hybrid's frame-sized targets when a light needs them.
+    /// rewritten in place; the lights' targets first ([`Techniques::prepare_targets`]).
     pub(super) fn upload(
         &mut self,
         scene: &Scene,
@@ -370,46 +47,20 @@ impl Renderer {
         lights: &[LightFrame],
         shadow_views: &[Mat4],
     ) -> RenderResult<GpuScene> {
-        if lights.iter().any(LightFrame::hybrid) {
-            let masked_depth = self.mask == MaskKind::DepthBounds;
-            let (width, height) = (self.desc.width, self.desc.height);
-            self.hybrid.prepare(&self.ctx, width, height, masked_depth, &mut self.slot.retired)?;
-        }
-        let shadowed: Vec<bool> = lights.iter().map(LightFrame::may_shadow).collect();
-        self.visibility.keep(&self.ctx, &shadowed, &mut self.slot.retired)?;
-        let rays: Vec<(usize, &Image)> = lights
-            .iter()
-            .filter(|l| l.hybrid_rays())
-            .map(|l| Ok((l.light(), &self.visibility.light(l.light())?.image)))
-            .collect::<RenderResult<_>>()?;
-        if let (Some(h), false) = (&mut self.hybrid_rays, rays.is_empty()) {
-            let (width, height, counted) = (self.desc.width, self.desc.height, self.own.is_some());
-            h.prepare(&self.ctx, width, height, &rays, counted, &mut self.slot.retired)?;
-        }
-        let keep: Vec<bool> = lights.iter().map(LightFrame::hybrid).collect();
-        self.hybrid.bounds.keep_only(&keep, &mut self.slot.retired);
-        for light in lights.iter().filter(|l| l.hybrid()) {
-            if let Some(map) = &light.map {
-                let retired = &mut self.slot.retired;
-                self.hybrid.bounds.prepare(&self.ctx, light.light(), map.resolution, map.views.kind, retired)?;
-            }
-        }
-        let shadows: Vec<GpuShadow> =
-            lights.iter().map(|l| l.map.as_ref().map_or_else(GpuShadow::default, |m| m.shadow)).collect();
+        let retired = &mut self.slot.retired;
+        self.techniques.prepare_targets(&self.ctx, lights, &mut self.visibility, retired)?;
         let gpu = GpuScene::upload(
             &self.ctx,
             &self.scene_set_layout,
             scene,
             &self.engine_meshes,
             &view.view,
-            &shadows,
+            &Techniques::gpu_shadows(lights),
             shadow_views,
             self.geometry.take(),
             self.slot.frame.take(),
         )?;
-        if lights.iter().any(LightFrame::hybrid) {
-            self.hybrid.bounds.bind_geometry(&self.ctx, &gpu, adjacency, &mut self.slot.retired)?;
-        }
+        self.techniques.bind_geometry(&self.ctx, &gpu, adjacency, lights, &mut self.slot.retired)?;
         Ok(gpu)
     }
 }

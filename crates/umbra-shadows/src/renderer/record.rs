@@ -5,15 +5,15 @@
 //! itself — its depth and ambient term before them, its lights and readback after — and an
 //! engine's frame ends with the hand-off.
 
-use super::declare::FrameInputs;
 use super::engine::FrameDepth;
-use super::lights::{FrameView, LightFrame, LightQueries, LightSets};
 use super::Renderer;
 use crate::frame::timing::PassReport;
 use crate::frame::{FrameGraph, PassId, QueryId, StageResults, Use};
 use crate::gpu_scene::GpuScene;
-use crate::hybrid::cull::CullingPlan;
 use crate::streams::Streams;
+use crate::techniques::{
+    Binding, CullingPlan, FrameInputs, FrameView, LightBindings, LightFrame, LightQueries, LightSets, PrepareInputs,
+};
 use crate::RenderResult;
 use std::sync::Arc;
 use std::time::Instant;
@@ -72,7 +72,7 @@ impl Renderer {
         self.slot.begin();
         let mut lights = self.plan(scene, &view)?;
         let mut adjacency = self.meshes.adjacency(scene)?;
-        self.deforming.substitute(&mut adjacency);
+        self.techniques.deforming.substitute(&mut adjacency);
         let mut streams = std::mem::take(&mut self.slot.streams);
         let ran = self.prepare_and_run(scene, &view, &adjacency, &mut lights, &mut streams, out);
         self.slot.streams = streams;
@@ -91,13 +91,18 @@ impl Renderer {
         streams: &mut Streams,
         out: Output<'_>,
     ) -> RenderResult<(FrameRun, Vec<LightSets>, u64, Instant, f64)> {
-        let shadow_views = self.prepare_maps(scene, view, adjacency, lights, streams)?;
-        self.prepare_volumes(scene, view, adjacency, lights, streams)?;
-        self.prepare_rays(scene, lights, streams)?;
-        let culling = self.plan_culling(scene, view, lights, streams)?;
-        let gpu = self.upload(scene, view, adjacency, lights, &shadow_views)?;
+        let p = PrepareInputs { ctx: &self.ctx, scene, view, adjacency };
+        let (slot, retired) = (&mut self.slot.techniques, &mut self.slot.retired);
+        let techniques = self.techniques.prepare(p, lights, streams, slot, retired)?;
+        let gpu = self.upload(scene, view, adjacency, lights, &techniques.shadow_views)?;
         let geometry_uploaded = gpu.geometry_uploaded;
-        let sets = match self.bind(lights) {
+        let binding = Binding {
+            ctx: &self.ctx,
+            sets: &mut self.slot.sets,
+            layout: &self.shadow_set_layout,
+            readbacks: &mut self.readbacks,
+        };
+        let sets = match self.techniques.bind(binding, lights) {
             Ok(sets) => sets,
             Err(e) => {
                 self.slot.retired.keep(gpu);
@@ -106,7 +111,7 @@ impl Renderer {
         };
         let prepared = Instant::now();
         let mut graph = std::mem::take(&mut self.slot.graph);
-        let run = self.declare_frame(&mut graph, scene, &gpu, lights, &sets, streams, culling, out);
+        let run = self.declare_frame(&mut graph, scene, &gpu, lights, &sets, streams, techniques.culling, out);
         self.slot.graph = graph;
         let run_ms = prepared.elapsed().as_secs_f64() * 1e3;
         match run {
@@ -140,8 +145,6 @@ impl Renderer {
     ) -> RenderResult<FrameRun> {
         graph.begin_frame();
         let bindings = &self.bindings(sets);
-        let (edges, volumes) = (streams.edges.filled(), streams.volumes.filled());
-        let volume_resets = streams.volume_draws.filled();
         // The depth the passes test: the renderer's own, the engine's as handed over, or
         // umbra's own, re-drawn first.
         let (depth, handed_over, rebuild) = match &out {
@@ -155,25 +158,22 @@ impl Renderer {
                 (rebuild.made()?, None, Some(rebuild))
             }
         };
+        let base = self.inputs(scene, gpu, bindings, depth, rebuild, streams);
         let mut stages = Vec::new();
         let boxes = streams.blockers.filled().filter(|_| !culling.boxes.is_empty());
         if let Some(boxes) = boxes {
-            let f = FrameInputs { scene, gpu, lights, bindings, depth, rebuild, edges, volumes, volume_resets };
+            let f = FrameInputs { lights, ..base };
             let mut views = graph.stage("frame: views and blocker culling");
             self.declare_views(&mut views, f)?;
-            let first = self.declare_culling(&mut views, f, &culling, boxes)?;
+            let first = self.techniques.declare_culling(&mut views, f, &culling, boxes)?;
             let done = graph.run(&self.ctx, views)?;
             let visible: Vec<u64> =
                 (0..culling.boxes.len() as u32).map(|i| done.samples(QueryId(first.0 + i))).collect();
-            for (l, caster) in culling.apply(&visible) {
-                if let Some(v) = lights[l].volumes.as_mut() {
-                    v.casters.remove(caster);
-                }
-            }
+            self.techniques.apply_culling(lights, &mut culling, &visible);
             stages.push(done);
         }
-        self.settle_volumes(scene, lights, &culling);
-        let f = FrameInputs { scene, gpu, lights, bindings, depth, rebuild, edges, volumes, volume_resets };
+        self.techniques.settle_volumes(scene, lights, &culling);
+        let f = FrameInputs { lights, ..base };
         let own = matches!(out, Output::Own);
         let mut stage = graph.stage(if own { "frame" } else { "umbra shadows" });
         if stages.is_empty() {
@@ -210,9 +210,52 @@ impl Renderer {
         for light in lights.iter().filter(|l| queries[l.light()].shadowed) {
             uses.push(Use::Image(&self.visibility.light(light.light())?.image, ImageState::FragmentRead));
         }
-        for light in lights.iter().filter(|l| l.map.as_ref().is_some_and(|m| m.depth)) {
-            uses.push(Use::Image(self.shadow_map.image(light.light())?, ImageState::FragmentRead));
+        for light in lights.iter().filter(|l| l.map_drawn()) {
+            uses.push(Use::Image(self.techniques.shadow_map_image(light.light())?, ImageState::FragmentRead));
         }
         Ok(uses)
+    }
+
+    /// What every pass of the frame reads, but its lights (`FrameInputs { lights, ..inputs }`:
+    /// blocker culling changes them between its stages).
+    fn inputs<'a>(
+        &'a self,
+        scene: &'a Scene,
+        gpu: &'a GpuScene,
+        bindings: &'a [LightBindings<'a>],
+        depth: &'a Image,
+        rebuild: Option<&'a crate::depth_rebuild::DepthRebuild>,
+        streams: &'a Streams,
+    ) -> FrameInputs<'a> {
+        FrameInputs {
+            scene,
+            gpu,
+            lights: &[],
+            bindings,
+            depth,
+            rebuild,
+            edges: streams.edges.filled(),
+            volumes: streams.volumes.filled(),
+            volume_resets: streams.volume_draws.filled(),
+            layout: &self.layout,
+            visibility: &self.visibility,
+            slot: &self.slot.techniques,
+            diagnostic_targets: self.diagnostic_targets.as_ref(),
+            overdraw: self.overdraw.as_ref().map(|(image, _)| image),
+        }
+    }
+
+    /// This frame's sets and readbacks of every light, resolved.
+    pub(super) fn bindings(&self, sets: &[LightSets]) -> Vec<LightBindings<'_>> {
+        sets.iter()
+            .zip(&self.readbacks)
+            .map(|(s, r)| LightBindings {
+                shadow_set: s.shadow_set.and_then(|i| self.slot.sets.get(i)),
+                depth_set: s.depth_set.and_then(|i| self.slot.sets.get(i)),
+                silhouette_readback: r.silhouette.as_ref(),
+                class_readback: r.classes.as_ref(),
+                visibility_readback: r.visibility.as_ref(),
+            })
+            .collect()
     }
 }

@@ -8,6 +8,7 @@ use crate::frame::FrameGraph;
 use crate::gpu_scene::{FrameBuffers, GpuScene, MeshUpload, SceneGeometry};
 use crate::retired::Retired;
 use crate::streams::Streams;
+use crate::techniques::TechniqueSlot;
 use crate::RenderResult;
 use std::sync::Arc;
 use umbra_vk::{Context, DescriptorArena, DescriptorSetLayout};
@@ -30,10 +31,8 @@ pub(crate) struct FrameSlot {
     upload: Option<MeshUpload>,
     /// What the slot's last frame stopped using, destroyed when the slot is used again.
     pub retired: Retired,
-    /// The ray-tracing BVH's set over this slot's top level (with ray-traced lights).
-    pub rays: Option<crate::ray_traced::pass::SlotRays>,
-    /// The set of the shadow volumes built on the GPU over this slot's jobs.
-    pub volumes: Option<crate::shadow_volume::gpu_frame::SlotVolumes>,
+    /// The techniques' sets over what this slot's frames wrote (the BVH, GPU-built volumes).
+    pub techniques: TechniqueSlot,
 }
 
 impl FrameSlot {
@@ -49,8 +48,7 @@ impl FrameSlot {
             geometry: None,
             upload: None,
             retired: Retired::default(),
-            rays: None,
-            volumes: None,
+            techniques: TechniqueSlot::default(),
         })
     }
 

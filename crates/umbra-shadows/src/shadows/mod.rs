@@ -176,7 +176,7 @@ impl Shadows {
             return Err(invalid("rest.indices".into(), why));
         }
         let id = self.add_mesh_buffers(buffers)?;
-        self.renderer.deforming.set(id.0 as usize, rest, buffers.positions);
+        self.renderer.techniques.deforming.set(id.0 as usize, rest, buffers.positions);
         Ok(id)
     }
 
@@ -186,7 +186,7 @@ impl Shadows {
         if let Some(engine) = self.renderer.engine_meshes.get_mut(mesh.0 as usize) {
             *engine = None;
         }
-        self.renderer.deforming.clear(mesh.0 as usize);
+        self.renderer.techniques.deforming.clear(mesh.0 as usize);
         Ok(())
     }
 
@@ -303,7 +303,7 @@ impl Shadows {
             |t: Technique| t == Technique::Auto || needs(t).volumes.is_some() || needs(t).silhouette || needs(t).rays;
         let gpu_volumes = self.desc.settings.shadow_volume.build == crate::VolumeBuild::Gpu;
         for o in scene.objects.iter().filter(|o| o.casts_shadows && engine.get(o.mesh).is_some_and(Option::is_some)) {
-            let deforms = self.renderer.deforming.holds(o.mesh);
+            let deforms = self.renderer.techniques.deforming.holds(o.mesh);
             let refused = |t: Technique| on_cpu(t) && !(deforms && gpu_volumes && t == Technique::ShadowVolume);
             let Some(i) = lights.iter().position(|l| refused(l.technique)) else { continue };
             let why = match deforms {

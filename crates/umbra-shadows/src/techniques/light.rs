@@ -15,7 +15,7 @@ use umbra_scene::Aabb;
 use umbra_vk::DescriptorSet;
 
 /// The view of a frame and the bounds every step uses.
-pub(super) struct FrameView {
+pub(crate) struct FrameView {
     /// The view drawn with (`P_inf` when shadow volumes need it).
     pub view: View,
     /// Each object's world bounds (`Scene::object_bounds`).
@@ -39,7 +39,7 @@ impl FrameView {
 }
 
 /// One light in one frame: its plan and what its technique prepared.
-pub(super) struct LightFrame {
+pub(crate) struct LightFrame {
     /// What the plan decided (and, once the frame ran, what the light's passes reported).
     pub plan: LightPlan,
     /// Its shadow map (shadow maps, silhouette maps, the hybrid).
@@ -55,6 +55,16 @@ pub(super) struct LightFrame {
 }
 
 impl LightFrame {
+    /// A planned light, nothing prepared yet.
+    pub fn new(plan: LightPlan) -> Self {
+        Self { plan, map: None, edges: None, volumes: None, rays: false, culled_blockers: None }
+    }
+
+    /// Whether its shadow map was drawn this frame (an engine may sample it).
+    pub fn map_drawn(&self) -> bool {
+        self.map.as_ref().is_some_and(|m| m.depth)
+    }
+
     /// Index of the light.
     pub fn light(&self) -> usize {
         self.plan.light
@@ -83,14 +93,14 @@ impl LightFrame {
 
 /// One light's descriptor sets this frame, as indices into the renderer's arena.
 #[derive(Clone, Copy, Default)]
-pub(super) struct LightSets {
+pub(crate) struct LightSets {
     pub shadow_set: Option<usize>,
     pub depth_set: Option<usize>,
 }
 
 /// The readbacks of one light's diagnostic views, kept from frame to frame while they fit.
 #[derive(Default)]
-pub(super) struct LightReadbacks {
+pub(crate) struct LightReadbacks {
     /// Its silhouette-map diagnostics (silhouette-map lights, with diagnostics).
     pub silhouette: Option<DiagnosticReadback>,
     /// Its classes (and stencil) diagnostics (shadow-map, shadow-volume and hybrid lights).
@@ -101,7 +111,7 @@ pub(super) struct LightReadbacks {
 
 /// One light's descriptor sets and readbacks this frame.
 #[derive(Clone, Copy, Default)]
-pub(super) struct LightBindings<'a> {
+pub(crate) struct LightBindings<'a> {
     /// Set 1 of its lighting passes (recorded lights).
     pub shadow_set: Option<&'a DescriptorSet>,
     /// Set 1 of its silhouette-point pass: the depth map raw, a placeholder for the map it writes.
@@ -116,7 +126,7 @@ pub(super) struct LightBindings<'a> {
 
 /// The occlusion queries of one light, reserved when its passes were declared.
 #[derive(Clone, Copy, Debug, Default)]
-pub(super) struct LightQueries {
+pub(crate) struct LightQueries {
     /// The hybrid's mask samples and masked fragments.
     pub hybrid: Option<HybridQueries>,
     /// Its volumes' fragments (with `overdraw`).

@@ -3,9 +3,9 @@
 //! ray-casting light's shadows, `ray stats N` after each one's visibility, `ray stats readback`
 //! after the last.
 
-use super::declare::FrameInputs;
-use super::lights::LightFrame;
-use super::Renderer;
+use super::inputs::FrameInputs;
+use super::light::LightFrame;
+use super::Techniques;
 use crate::frame::{PassId, Stage, Use};
 use crate::light_surfaces::over_surfaces;
 use crate::ray_traced::stats::RayStats;
@@ -14,7 +14,7 @@ use umbra_vk::{BufferState, ImageState};
 
 use ImageState::{ColorAttachment as Color, DepthStencilAttachment as Depth};
 
-impl Renderer {
+impl Techniques {
     /// With the shadow rays' counters (`ray_traced::stats`) and a ray-casting light this frame,
     /// `ray stats reset`; the counters to use, if so.
     pub(super) fn declare_ray_stats_reset<'a>(
@@ -41,10 +41,10 @@ impl Renderer {
         stats: &'a RayStats,
     ) -> RenderResult<()> {
         let l = light.light();
-        let (Some((counters, _)), Some(bvh)) = (stats.buffers(), self.slot.rays.as_ref().map(|r| &r.set)) else {
+        let (Some((counters, _)), Some(bvh)) = (stats.buffers(), f.slot.rays.as_ref().map(|r| &r.set)) else {
             return Ok(());
         };
-        let image = &self.visibility.light(l)?.image;
+        let image = &f.visibility.light(l)?.image;
         if !light.hybrid_rays() {
             let (surfaces, depth) = (f.surfaces(light), f.depth);
             let uses = [
