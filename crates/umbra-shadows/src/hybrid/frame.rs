@@ -53,10 +53,7 @@ pub(crate) fn declare_light<'a>(
         Ok(())
     });
     let volume_uses = [vec![Use::Image(target, Depth)], h.source.reads()].concat();
-    stage.pass(PassId::HybridVolumes(l), &volume_uses, move |cx| {
-        pass.record_volumes(cx, &h);
-        Ok(())
-    });
+    stage.pass(PassId::HybridVolumes(l), &volume_uses, move |cx| pass.record_volumes(cx, &h));
     let resolve = [Use::Image(h.visibility, Color), Use::Image(target, Depth), Use::Image(classes, Read)];
     stage.pass(PassId::HybridVisibility(l), &resolve, move |cx| {
         pass.record_visibility(cx, &h);
@@ -65,8 +62,7 @@ pub(crate) fn declare_light<'a>(
     let fragments = fragments.then(|| {
         let query = stage.queries(1);
         stage.pass(PassId::MaskedVolumeFragments(l), &[Use::Image(target, Depth)], move |cx| {
-            pass.record_fragments(cx, &h, query);
-            Ok(())
+            pass.record_fragments(cx, &h, query)
         });
         query
     });

@@ -12,13 +12,14 @@ use crate::diagnostics::ClassReadback;
 use crate::forward;
 use crate::frame::{PassRecorder, QueryId};
 use crate::gpu_scene::{DrawPush, GpuScene};
+use crate::light_surfaces::{LightSurfaces, PassBounds};
 use crate::retired::Retired;
 use crate::shadow_map::{self, ShadowMapSettings};
 use crate::shadow_volume::batches::{fold_desc, record_in_batches, CountBits, FULL_STENCIL};
 use crate::shadow_volume::build::LightVolumes;
-use crate::shadow_volume::frame::VolumeSource;
-use crate::shadow_volume::gpu_frame::{GpuDraws, GpuVolumes};
-use crate::shadow_volume::pass::{self as volume_pass, VolumeBindings};
+use crate::shadow_volume::frame::{VolumeLight, VolumeSource};
+use crate::shadow_volume::gpu_frame::GpuVolumes;
+use crate::shadow_volume::pass as volume_pass;
 use crate::visibility::VISIBILITY_FORMAT;
 use crate::RenderResult;
 use umbra_scene::Scene;
@@ -336,33 +337,48 @@ impl HybridPass {
 
     /// Step 3: z-fail volumes, where the mask lets them through: the host's vertices, or the
     /// volumes built on the GPU (`shadow_volume/gpu_frame.rs`).
-    pub fn record_volumes<'a>(&'a self, cx: &mut PassRecorder<'_, 'a>, h: &HybridLight<'a>) {
+    pub fn record_volumes<'a>(&'a self, cx: &mut PassRecorder<'_, 'a>, h: &HybridLight<'a>) -> RenderResult<()> {
         if let VolumeSource::Host(None) = h.source {
-            return;
+            return Ok(());
         }
+        let masked = self.masked(h)?;
         let target = self.count_target(h.mask, h.depth);
         cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(DepthAttachment::keep(target)) });
         let bits = count_bits(h.mask);
         let fold = if h.mask == MaskKind::Stencil { &self.fold_under_silhouette } else { &self.fold };
-        match h.source {
-            VolumeSource::Host(Some(vertices)) => {
-                let b = VolumeBindings { layout: h.layout, gpu: h.gpu, vertices };
+        h.volume_light().draw(
+            cx,
+            |cx, b| {
                 b.bind(cx.rec);
                 let host_clipped = h.volumes.host_clipped;
                 record_in_batches(cx.rec, cx.log, h.volumes, bits, fold, |rec, log, batch, batched| {
                     self.volumes.bind(rec, h.mask, batched);
                     b.draw_counting(rec, batch.iter(), host_clipped, h.light as u32, log);
                 });
-            }
-            VolumeSource::Gpu(g, slot) => {
-                let draws = GpuDraws { gpu: h.gpu, slot, volumes: h.volumes, light: h.light as u32 };
-                if let Some(masked) = &self.gpu {
+            },
+            |cx, g, draws| {
+                if let Some(masked) = masked {
                     masked.record_counting(cx.rec, g, draws, (h.mask, bits), fold, cx.log);
                 }
-            }
-            VolumeSource::Host(None) => {}
-        }
+            },
+        );
         cx.rec.end_rendering();
+        Ok(())
+    }
+
+    /// The masked pipelines over GPU-built volumes, where `h`'s volumes were built on the GPU;
+    /// an error where this pass was made without them ([`HybridPass::with_gpu_volumes`]).
+    fn masked(&self, h: &HybridLight<'_>) -> RenderResult<Option<&GpuMasked>> {
+        match (h.source, &self.gpu) {
+            (VolumeSource::Gpu(..), None) => Err(crate::RenderError::InvalidInput {
+                field: format!("light {}", h.light),
+                why: "its hybrid volumes were built on the GPU, but the hybrid's pipelines were made without \
+                      the GPU path (shadow_volume.build)"
+                    .into(),
+            }),
+            (VolumeSource::Gpu(..), Some(masked)) => Ok(Some(masked)),
+            _ => Ok(None),
+        }
     }
 
     /// Step 4 (the visibility image in ColorAttachment, the classes readable): the silhouette
@@ -384,28 +400,33 @@ impl HybridPass {
 
     /// Diagnostic: the volume fragments the mask lets through (no depth test, no writes) into
     /// `query`; without a mask the query stays empty (the count is the unmasked one).
-    pub fn record_fragments<'a>(&'a self, cx: &mut PassRecorder<'_, 'a>, h: &HybridLight<'a>, query: QueryId) {
+    pub fn record_fragments<'a>(
+        &'a self,
+        cx: &mut PassRecorder<'_, 'a>,
+        h: &HybridLight<'a>,
+        query: QueryId,
+    ) -> RenderResult<()> {
+        let masked = self.masked(h)?;
         let target = self.count_target(h.mask, h.depth);
         cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(DepthAttachment::keep(target)) });
         cx.begin_query(query);
-        match h.source {
-            VolumeSource::Host(Some(vertices)) => {
+        h.volume_light().draw(
+            cx,
+            |cx, b| {
                 if self.fragments.bind(cx.rec, h.mask) {
-                    let b = VolumeBindings { layout: h.layout, gpu: h.gpu, vertices };
                     b.bind(cx.rec);
                     b.draw(cx.rec, &h.volumes.casters, h.light as u32, cx.log);
                 }
-            }
-            VolumeSource::Gpu(g, slot) => {
-                let draws = GpuDraws { gpu: h.gpu, slot, volumes: h.volumes, light: h.light as u32 };
-                if let Some(masked) = &self.gpu {
+            },
+            |cx, g, draws| {
+                if let Some(masked) = masked {
                     masked.record_fragments(cx.rec, g, draws, h.mask);
                 }
-            }
-            VolumeSource::Host(None) => {}
-        }
+            },
+        );
         cx.end_query(query);
         cx.rec.end_rendering();
+        Ok(())
     }
 
     /// Diagnostic (classes and count target in TransferSrc): both copied into `out`.
@@ -450,6 +471,16 @@ pub(crate) struct HybridLight<'a> {
     pub source: VolumeSource<'a>,
     /// The mask pass's samples.
     pub mask_query: QueryId,
+}
+
+impl<'a> HybridLight<'a> {
+    /// Its volumes as shadow volumes draw them (the hybrid's passes are not bounded: the mask
+    /// already limits them).
+    fn volume_light(&self) -> VolumeLight<'a> {
+        let surfaces =
+            LightSurfaces { gpu: self.gpu, scene: self.scene, light: self.light as u32, bounds: PassBounds::default() };
+        VolumeLight { surfaces, layout: self.layout, volumes: self.volumes, source: self.source }
+    }
 }
 
 /// One light's blocker boxes, tested against its shadow map.

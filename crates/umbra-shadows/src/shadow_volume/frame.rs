@@ -57,7 +57,7 @@ pub(crate) struct VolumeLight<'a> {
 impl<'a> VolumeLight<'a> {
     /// Draws the light's volumes inside `cx`'s open rendering pass: `host` with the frame's
     /// vertices bound, or `gpu` with the draws the GPU built; nothing without volume vertices.
-    fn draw(
+    pub fn draw(
         &self,
         cx: &mut PassRecorder<'_, 'a>,
         host: impl FnOnce(&mut PassRecorder<'_, 'a>, VolumeBindings<'a>),
