@@ -2,7 +2,7 @@
 //! frame slot's arena, and, with diagnostics or `read_visibility`, its readbacks, kept while
 //! they fit.
 
-use super::light::{LightFrame, LightReadbacks, LightSets};
+use super::light::{LightFrame, LightReadbacks, LightSets, Prepared};
 use super::Techniques;
 use crate::diagnostics::{ClassReadback, DiagnosticReadback};
 use crate::technique::needs;
@@ -24,7 +24,7 @@ impl Techniques {
     /// Binds every light of `lights` (after their maps were prepared): the arena is reset, so
     /// the sets of the frame before are gone.
     pub fn bind(&self, b: Binding<'_>, lights: &[LightFrame]) -> RenderResult<Vec<LightSets>> {
-        let count = lights.iter().map(|l| u32::from(l.plan.recorded) + u32::from(l.edges.is_some())).sum();
+        let count = lights.iter().map(|l| u32::from(l.plan.recorded) + u32::from(l.edges().is_some())).sum();
         b.sets.reset(b.layout, count)?;
         b.readbacks.resize_with(lights.len(), LightReadbacks::default);
         b.readbacks.truncate(lights.len());
@@ -43,17 +43,26 @@ impl Techniques {
     ) -> RenderResult<LightSets> {
         let (l, plan) = (light.light(), &light.plan);
         let mut out = LightSets::default();
-        let has_map = light.map.as_ref().is_some_and(|m| m.depth).then_some(l);
+        let has_map = light.map_drawn().then_some(l);
         if plan.recorded {
-            let technique_image = match (light.hybrid(), self.hybrid.classes()) {
-                (true, Some(classes)) => classes,
-                _ => self.silhouette_map.image(light.edges.map(|_| l)),
+            // Binding 3: the hybrids' classes, a silhouette map, or its placeholder; binding 4:
+            // the hybrids' depth bounds, or their placeholder.
+            let (technique_image, bounds) = match (&light.prepared, self.hybrid.classes()) {
+                (Prepared::Hybrid(..) | Prepared::HybridRays(_), classes) => {
+                    let image = classes.unwrap_or_else(|| self.silhouette_map.image(None));
+                    (image, self.hybrid.bounds.image(Some(l)))
+                }
+                (Prepared::SilhouetteMap(..), _) => {
+                    (self.silhouette_map.image(Some(l)), self.hybrid.bounds.image(None))
+                }
+                (Prepared::Nothing | Prepared::Map(_) | Prepared::Volumes(_) | Prepared::Rays, _) => {
+                    (self.silhouette_map.image(None), self.hybrid.bounds.image(None))
+                }
             };
-            let bounds = self.hybrid.bounds.image(light.hybrid().then_some(l));
             let set = self.shadow_map.descriptor_set(arena, layout, has_map, technique_image, bounds)?;
             out.shadow_set = Some(set);
         }
-        if light.edges.is_some() {
+        if light.edges().is_some() {
             // Pass 2 reads the depth map raw while it writes the silhouette map, which its set
             // must not bind: the placeholder stands in.
             let (placeholder, bounds) = (self.silhouette_map.image(None), self.hybrid.bounds.image(None));
@@ -67,7 +76,7 @@ impl Techniques {
     fn keep_readbacks(&self, ctx: &Context, kept: &mut LightReadbacks, light: &LightFrame) -> RenderResult<()> {
         let l = light.light();
         let (width, height) = (self.setup.width, self.setup.height);
-        let silhouette = self.setup.diagnostics && light.edges.is_some();
+        let silhouette = self.setup.diagnostics && light.edges().is_some();
         let map = self.silhouette_map.image(Some(l));
         match (silhouette, &kept.silhouette) {
             (true, Some(r)) if r.fits(map) => {}
@@ -76,10 +85,10 @@ impl Techniques {
         }
         let classified = light.plan.recorded && needs(light.plan.technique).classified;
         // The stencil too where it decides pixels: the hybrid's, a shadow-volume light's.
-        let stencil = light.volumes.is_some();
+        let stencil = light.volumes().is_some();
         // The ray-traced hybrid's silhouette pixels are decided by rays, which leave no
         // classification to read back (as ray-traced lights).
-        let hybrid = light.hybrid() && !light.rays;
+        let hybrid = light.hybrid() && !light.rays();
         match (self.setup.diagnostics && (hybrid || classified), &kept.classes) {
             (true, Some(r)) if r.stencil.is_some() == stencil => {}
             (true, _) => kept.classes = Some(ClassReadback::new(ctx, width, height, stencil)?),

@@ -6,7 +6,7 @@
 //! timestamps (`crate::frame`).
 
 use super::inputs::FrameInputs;
-use super::light::{LightFrame, LightQueries};
+use super::light::{LightFrame, LightQueries, Prepared};
 use super::Techniques;
 use crate::frame::{PassId, QueryId, Stage, Use};
 use crate::hybrid::frame::{self as hybrid_frame, HybridQueries};
@@ -53,7 +53,7 @@ impl Techniques {
     ) -> RenderResult<Option<QueryId>> {
         let volume_fragments = self.declare_overdraw(stage, f, light, first);
         self.declare_silhouette_diagnostics(stage, f, light, reads);
-        if let (Some(stats), true) = (s.stats, light.rays) {
+        if let (Some(stats), true) = (s.stats, light.rays()) {
             self.declare_ray_stats(stage, f, light, stats)?;
         }
         Ok(volume_fragments)
@@ -66,9 +66,10 @@ impl Techniques {
         }
     }
 
-    /// The technique seam's one dispatch of visibility passes (`crate::visibility`): the
-    /// hybrid's own passes, a shadow-volume light's stencil counts resolved, or a map lookup.
-    /// False when nothing shadows the light this frame (it is lit unshadowed).
+    /// The technique seam's one dispatch of visibility passes (`crate::visibility`), by what
+    /// the light prepared: a map lookup, a shadow-volume light's stencil counts resolved, its
+    /// rays, or the hybrids' own passes. False when nothing shadows the light this frame (it
+    /// is lit unshadowed).
     pub fn declare_visibility<'a>(
         &'a self,
         stage: &mut Stage<'a>,
@@ -78,38 +79,32 @@ impl Techniques {
         reads: &[Use<'a>],
         queries: &mut LightQueries,
     ) -> RenderResult<bool> {
-        match (&light.volumes, f.volumes) {
-            _ if light.hybrid_rays() => {
-                self.declare_hybrid_rays(stage, f, light, shadow_set)?;
-                Ok(true)
-            }
-            (Some(volumes), _) if light.hybrid() => {
-                queries.hybrid = Some(self.declare_hybrid(stage, f, light, volumes, shadow_set)?);
-                Ok(true)
-            }
-            (Some(volumes), _) if volumes.gpu.is_some() => {
-                let source = self.declare_gpu_stages(stage, f, light, volumes)?;
-                self.declare_volume_light(stage, f, light, volumes, source)?;
-                Ok(true)
-            }
-            // A hybrid light without a map this frame is shadowed by its volumes alone.
-            (Some(volumes), Some(vertices)) => {
-                self.declare_volume_light(stage, f, light, volumes, VolumeSource::Host(Some(vertices)))?;
-                Ok(true)
-            }
-            _ if light.rays => {
-                let target = f.visibility_target(light)?;
-                ray_frame::declare_light(stage, &self.rays, f.slot.rays.as_ref(), f.surfaces(light), target);
-                Ok(true)
-            }
-            _ if light.map.is_some() => {
+        match &light.prepared {
+            Prepared::Nothing => return Ok(false),
+            Prepared::Map(_) | Prepared::SilhouetteMap(..) => {
                 let target = f.visibility_target(light)?;
                 let (layout, surfaces) = (f.layout, f.surfaces(light));
                 visibility::declare_map_light(stage, f.visibility, layout, surfaces, shadow_set, target, reads);
-                Ok(true)
             }
-            _ => Ok(false),
+            Prepared::Volumes(volumes) => {
+                let source = match (volumes.gpu.is_some(), f.volumes) {
+                    (true, _) => self.declare_gpu_stages(stage, f, light, volumes)?,
+                    (false, Some(vertices)) => VolumeSource::Host(Some(vertices)),
+                    // Not one volume triangle this frame: nothing shadows the light.
+                    (false, None) => return Ok(false),
+                };
+                self.declare_volume_light(stage, f, light, volumes, source)?;
+            }
+            Prepared::Rays => {
+                let target = f.visibility_target(light)?;
+                ray_frame::declare_light(stage, &self.rays, f.slot.rays.as_ref(), f.surfaces(light), target);
+            }
+            Prepared::Hybrid(_, volumes) => {
+                queries.hybrid = Some(self.declare_hybrid(stage, f, light, volumes, shadow_set)?);
+            }
+            Prepared::HybridRays(_) => self.declare_hybrid_rays(stage, f, light, shadow_set)?,
         }
+        Ok(true)
     }
 
     /// A hybrid light's own passes (`hybrid::frame`), after its map.
@@ -178,10 +173,10 @@ impl Techniques {
     /// The images a light's lighting passes sample: its shadow map and silhouette map.
     pub fn light_reads(&self, light: &LightFrame) -> RenderResult<Vec<Use<'_>>> {
         let mut reads = Vec::new();
-        if light.map.as_ref().is_some_and(|m| m.depth) {
+        if light.map().is_some_and(|m| m.depth) {
             reads.push(Use::Image(self.shadow_map.image(light.light())?, Read));
         }
-        if light.edges.is_some() {
+        if light.edges().is_some() {
             reads.push(Use::Image(self.silhouette_map.image(Some(light.light())), Read));
         }
         Ok(reads)
@@ -191,7 +186,7 @@ impl Techniques {
     /// the frame's lights built on the GPU. Whether it was declared.
     pub fn declare_volume_counts<'a>(&'a self, stage: &mut Stage<'a>, f: FrameInputs<'a>) -> bool {
         let Some(g) = self.gpu_volumes.as_ref() else { return false };
-        let jobs = f.lights.iter().filter(|l| builds_on_gpu(l)).filter_map(|l| l.volumes.as_ref()?.gpu.as_ref());
+        let jobs = f.lights.iter().filter(|l| builds_on_gpu(l)).filter_map(|l| l.volumes()?.gpu.as_ref());
         volume_frame::declare_gpu_counts(stage, g, jobs.map(|(first, jobs)| first + jobs.len()).max())
     }
 
@@ -239,7 +234,7 @@ impl Techniques {
         light: &'a LightFrame,
         first: bool,
     ) -> Option<QueryId> {
-        let (image, volumes) = (f.overdraw?, light.volumes.as_ref()?);
+        let (image, volumes) = (f.overdraw?, light.volumes()?);
         // Built on the CPU: the frame's vertices; on the GPU: the stages' draws and set.
         let source = match volumes.gpu {
             Some(_) => VolumeSource::Gpu(self.gpu_volumes.as_ref()?, f.slot.volumes.as_ref()?),
@@ -294,5 +289,5 @@ impl Techniques {
 
 /// Whether a light's volumes are built on the GPU this frame.
 fn builds_on_gpu(light: &LightFrame) -> bool {
-    light.plan.recorded && light.volumes.as_ref().is_some_and(|v| v.gpu.is_some())
+    light.plan.recorded && light.volumes().is_some_and(|v| v.gpu.is_some())
 }

@@ -11,7 +11,7 @@ use crate::silhouette_map::edges::LightEdges;
 use crate::technique::{needs, Lighting};
 use crate::view::View;
 use crate::visibility::VisibilityReadback;
-use umbra_scene::Aabb;
+use umbra_scene::{Aabb, Technique};
 use umbra_vk::DescriptorSet;
 
 /// The view of a frame and the bounds every step uses.
@@ -42,27 +42,70 @@ impl FrameView {
 pub(crate) struct LightFrame {
     /// What the plan decided (and, once the frame ran, what the light's passes reported).
     pub plan: LightPlan,
-    /// Its shadow map (shadow maps, silhouette maps, the hybrid).
-    pub map: Option<MapFrame>,
-    /// Its silhouette edges (silhouette maps).
-    pub edges: Option<LightEdges>,
-    /// Its volumes (shadow volumes, the hybrid), culled casters left out.
-    pub volumes: Option<LightVolumes>,
-    /// Whether its shadows are ray traced this frame (the scene's BVH is prepared).
-    pub rays: bool,
+    /// What its technique prepared for its passes.
+    pub prepared: Prepared,
     /// Casters blocker culling dropped, when its boxes were queried.
     pub culled_blockers: Option<usize>,
+}
+
+/// What one light's technique prepared this frame: one variant per way a light is shadowed,
+/// each holding what its passes draw from. Every step of the frame that depends on the
+/// technique matches on it.
+pub(crate) enum Prepared {
+    /// Nothing shadows it this frame: not recorded, not shadowed, or no caster can shadow a
+    /// visible receiver (it is lit unshadowed).
+    Nothing,
+    /// A shadow map, looked up per pixel (shadow maps).
+    Map(MapFrame),
+    /// A shadow map and its silhouette edges, which draw the silhouette map (silhouette maps).
+    SilhouetteMap(MapFrame, LightEdges),
+    /// Volumes whose stencil counts decide every pixel (shadow volumes), culled casters left
+    /// out.
+    Volumes(LightVolumes),
+    /// Shadow rays through the scene's BVH (ray-traced shadows, and a ray-traced hybrid light
+    /// without a map this frame).
+    Rays,
+    /// The hybrid: a map whose silhouette pixels its z-fail volumes decide.
+    Hybrid(MapFrame, LightVolumes),
+    /// The ray-traced hybrid: a map whose silhouette pixels shadow rays decide.
+    HybridRays(MapFrame),
+}
+
+/// What each stage of a light's preparation made, before they are one [`Prepared`].
+#[derive(Default)]
+pub(crate) struct Parts {
+    pub map: Option<MapFrame>,
+    pub edges: Option<LightEdges>,
+    pub volumes: Option<LightVolumes>,
+    pub rays: bool,
+}
+
+impl Parts {
+    /// Whether these parts, for a light of `technique`, are a ray-traced hybrid's: its
+    /// classification runs, then rays for its silhouette pixels.
+    pub fn hybrid_rays(&self, technique: Technique) -> bool {
+        needs(technique).lighting == Lighting::Hybrid && self.map.is_some() && self.rays
+    }
+
+    /// The parts of a light of `technique` as what its passes draw from.
+    pub fn assemble(self, technique: Technique) -> Prepared {
+        let hybrid = needs(technique).lighting == Lighting::Hybrid;
+        match self {
+            Parts { map: Some(map), volumes: Some(volumes), .. } if hybrid => Prepared::Hybrid(map, volumes),
+            Parts { map: Some(map), rays: true, .. } if hybrid => Prepared::HybridRays(map),
+            Parts { map: Some(map), edges: Some(edges), .. } => Prepared::SilhouetteMap(map, edges),
+            Parts { map: Some(map), .. } => Prepared::Map(map),
+            Parts { volumes: Some(volumes), .. } => Prepared::Volumes(volumes),
+            Parts { rays: true, .. } => Prepared::Rays,
+            Parts { .. } => Prepared::Nothing,
+        }
+    }
 }
 
 impl LightFrame {
     /// A planned light, nothing prepared yet.
     pub fn new(plan: LightPlan) -> Self {
-        Self { plan, map: None, edges: None, volumes: None, rays: false, culled_blockers: None }
-    }
-
-    /// Whether its shadow map was drawn this frame (an engine may sample it).
-    pub fn map_drawn(&self) -> bool {
-        self.map.as_ref().is_some_and(|m| m.depth)
+        Self { plan, prepared: Prepared::Nothing, culled_blockers: None }
     }
 
     /// Index of the light.
@@ -70,24 +113,66 @@ impl LightFrame {
         self.plan.light
     }
 
+    /// Its shadow map (shadow maps, silhouette maps, the hybrids).
+    pub fn map(&self) -> Option<&MapFrame> {
+        match &self.prepared {
+            Prepared::Map(m) | Prepared::SilhouetteMap(m, _) | Prepared::Hybrid(m, _) | Prepared::HybridRays(m) => {
+                Some(m)
+            }
+            Prepared::Nothing | Prepared::Volumes(_) | Prepared::Rays => None,
+        }
+    }
+
+    /// Whether its shadow map was drawn this frame (an engine may sample it).
+    pub fn map_drawn(&self) -> bool {
+        self.map().is_some_and(|m| m.depth)
+    }
+
+    /// Its silhouette edges (silhouette maps).
+    pub fn edges(&self) -> Option<LightEdges> {
+        match &self.prepared {
+            Prepared::SilhouetteMap(_, e) => Some(*e),
+            _ => None,
+        }
+    }
+
+    /// Its volumes (shadow volumes, the hybrid).
+    pub fn volumes(&self) -> Option<&LightVolumes> {
+        match &self.prepared {
+            Prepared::Volumes(v) | Prepared::Hybrid(_, v) => Some(v),
+            _ => None,
+        }
+    }
+
+    /// Its volumes, to drop culled casters and plan their batches.
+    pub fn volumes_mut(&mut self) -> Option<&mut LightVolumes> {
+        match &mut self.prepared {
+            Prepared::Volumes(v) | Prepared::Hybrid(_, v) => Some(v),
+            _ => None,
+        }
+    }
+
+    /// Whether it casts shadow rays this frame (the scene's BVH is prepared).
+    pub fn rays(&self) -> bool {
+        matches!(self.prepared, Prepared::Rays | Prepared::HybridRays(_))
+    }
+
     /// Whether the hybrid's own passes run for it: a hybrid light with a map and volumes, or
     /// a ray-traced hybrid's with a map and rays (its classification, then rays for volumes).
     pub fn hybrid(&self) -> bool {
-        needs(self.plan.technique).lighting == Lighting::Hybrid
-            && self.map.is_some()
-            && (self.volumes.is_some() || self.rays)
+        matches!(self.prepared, Prepared::Hybrid(..) | Prepared::HybridRays(_))
     }
 
     /// Whether it is a ray-traced hybrid light whose classification runs (its silhouette
     /// pixels decided by rays, `crate::hybrid::rays`).
     pub fn hybrid_rays(&self) -> bool {
-        self.hybrid() && self.rays
+        matches!(self.prepared, Prepared::HybridRays(_))
     }
 
     /// Whether its technique may write its visibility image this frame: it is recorded and has
     /// a map, volumes (with no volume triangle at all it is lit unshadowed) or rays.
     pub fn may_shadow(&self) -> bool {
-        self.plan.recorded && (self.map.is_some() || self.volumes.is_some() || self.rays)
+        self.plan.recorded && !matches!(self.prepared, Prepared::Nothing)
     }
 }
 

@@ -2,7 +2,7 @@
 //! (checked against the device and the budget before any is made), extract silhouette edges,
 //! build shadow volumes, list blocker boxes, and upload what changed.
 
-use super::light::{FrameView, LightFrame};
+use super::light::{FrameView, LightFrame, Parts};
 use super::{TechniqueSlot, Techniques};
 use crate::budget;
 use crate::error::ShadowStorage;
@@ -38,9 +38,9 @@ pub(crate) struct PrepareInputs<'a> {
     pub adjacency: &'a [Arc<Adjacency>],
 }
 
-/// What a frame's preparation gave the passes: every map's views, in light order (the
-/// shadow-view buffer), and the boxes blocker culling queries.
-pub(crate) struct Prepared {
+/// What a frame's preparation gave the passes besides each light's [`super::Prepared`]: every
+/// map's views, in light order (the shadow-view buffer), and the boxes blocker culling queries.
+pub(crate) struct PreparedFrame {
     pub shadow_views: Vec<Mat4>,
     pub culling: CullingPlan,
 }
@@ -66,12 +66,16 @@ impl Techniques {
         streams: &mut Streams,
         slot: &mut TechniqueSlot,
         retired: &mut Retired,
-    ) -> RenderResult<Prepared> {
-        let shadow_views = self.prepare_maps(p, lights, streams, retired)?;
-        self.prepare_volumes(p, lights, streams, slot, retired)?;
-        self.prepare_rays(p, lights, streams, slot, retired)?;
+    ) -> RenderResult<PreparedFrame> {
+        let mut parts: Vec<Parts> = lights.iter().map(|_| Parts::default()).collect();
+        let shadow_views = self.prepare_maps(p, lights, &mut parts, streams, retired)?;
+        self.prepare_volumes(p, lights, &mut parts, streams, slot, retired)?;
+        self.prepare_rays(p, lights, &mut parts, streams, slot, retired)?;
+        for (light, parts) in lights.iter_mut().zip(parts) {
+            light.prepared = parts.assemble(light.plan.technique);
+        }
         let culling = self.plan_culling(p, lights, streams)?;
-        Ok(Prepared { shadow_views, culling })
+        Ok(PreparedFrame { shadow_views, culling })
     }
 
     /// Shadow maps (also the depth maps of silhouette maps and the hybrid): every light's views
@@ -82,6 +86,7 @@ impl Techniques {
         &mut self,
         p: PrepareInputs<'_>,
         lights: &mut [LightFrame],
+        parts: &mut [Parts],
         streams: &mut Streams,
         retired: &mut Retired,
     ) -> RenderResult<Vec<Mat4>> {
@@ -94,7 +99,7 @@ impl Techniques {
         let settings = *self.shadow_map.settings();
         let mut shadow_views = Vec::new();
         let mut edge_instances = Vec::new();
-        for (light, map) in lights.iter_mut().zip(&mut fitted) {
+        for ((light, map), parts) in lights.iter_mut().zip(&mut fitted).zip(parts.iter_mut()) {
             let Some(mut map) = map.take() else { continue };
             let (l, resolution, views) = (light.light(), map.resolution, &map.views);
             let seen = view.seen(self.setup.height);
@@ -133,7 +138,7 @@ impl Techniques {
                     silhouette_pixels: None,
                     silhouette_fraction: None,
                 });
-                light.edges = Some(e);
+                parts.edges = Some(e);
             }
             let clamp_texels = match (settings.bias.clamp_texels, map.silhouette) {
                 (Some(t), _) => Some(t),
@@ -144,7 +149,7 @@ impl Techniques {
                 map.bias_clamp = texels::bias_clamp(views.views[0], side, texels);
             }
             shadow_views.extend_from_slice(&views.views);
-            light.map = Some(map);
+            parts.map = Some(map);
         }
         streams.edges.fill(ctx, &edge_instances)?;
         Ok(shadow_views)
@@ -235,7 +240,8 @@ impl Techniques {
     fn prepare_volumes(
         &mut self,
         p: PrepareInputs<'_>,
-        lights: &mut [LightFrame],
+        lights: &[LightFrame],
+        parts: &mut [Parts],
         streams: &mut Streams,
         slot: &mut TechniqueSlot,
         retired: &mut Retired,
@@ -246,12 +252,12 @@ impl Techniques {
         let mut next = (0u32, 0u32);
         let depth_precision =
             lights.iter().any(|l| needs(l.plan.technique).volumes.is_some()).then(|| view.depth_precision()).flatten();
-        for light in lights.iter_mut() {
+        for (light, parts) in lights.iter().zip(parts.iter_mut()) {
             let plan = &light.plan;
             let shadowed = plan.recorded && plan.shadowed;
             let wanted = match needs(plan.technique).volumes {
                 Some(Volumes::Settings) if shadowed => Volumes::Settings,
-                Some(Volumes::ZFailWithMap) if shadowed && light.map.is_some() => Volumes::ZFailWithMap,
+                Some(Volumes::ZFailWithMap) if shadowed && parts.map.is_some() => Volumes::ZFailWithMap,
                 _ => continue,
             };
             let mode = wanted.mode(self.setup.shadow_volume.mode);
@@ -267,11 +273,11 @@ impl Techniques {
             if let Some(g) = self.gpu_volumes.as_mut() {
                 g.prepare_arrays(ctx, adjacency, self.deforming.streams(), retired)?;
                 let v = volumes::jobs_for_light(casters, g.ranges(), &mut jobs, &mut next);
-                light.volumes = Some(volumes::LightVolumes { depth_precision, ..v });
+                parts.volumes = Some(volumes::LightVolumes { depth_precision, ..v });
                 continue;
             }
             let v = volumes::build_light(casters, &mut vertices);
-            light.volumes = Some(volumes::LightVolumes { depth_precision, ..v });
+            parts.volumes = Some(volumes::LightVolumes { depth_precision, ..v });
         }
         if let (Some(g), false) = (self.gpu_volumes.as_mut(), jobs.is_empty()) {
             streams.volume_draws.fill(ctx, &crate::shadow_volume::gpu::draw_resets(&jobs))?;
@@ -288,9 +294,9 @@ impl Techniques {
         }
         // Drivers whose clipping is not watertight: every light's volumes cut to the view here.
         let (mut clipped, mut cut_caps) = (Vec::new(), Vec::new());
-        for light in lights.iter_mut() {
+        for (light, parts) in lights.iter().zip(parts.iter_mut()) {
             let position = scene.lights[light.light()].position;
-            if let Some(v) = light.volumes.as_mut() {
+            if let Some(v) = parts.volumes.as_mut() {
                 let started = std::time::Instant::now();
                 clip::clip_light(
                     scene,
@@ -316,16 +322,17 @@ impl Techniques {
         &mut self,
         p: PrepareInputs<'_>,
         lights: &mut [LightFrame],
+        parts: &mut [Parts],
         streams: &mut Streams,
         slot: &mut TechniqueSlot,
         retired: &mut Retired,
     ) -> RenderResult<()> {
         let PrepareInputs { ctx, scene, .. } = p;
         let mut any = false;
-        for light in lights.iter_mut() {
-            light.rays = needs(light.plan.technique).rays && light.plan.recorded && light.plan.shadowed;
-            any |= light.rays;
-            if light.hybrid_rays() && self.hybrid_rays.is_none() {
+        for (light, parts) in lights.iter().zip(parts.iter_mut()) {
+            parts.rays = needs(light.plan.technique).rays && light.plan.recorded && light.plan.shadowed;
+            any |= parts.rays;
+            if parts.hybrid_rays(light.plan.technique) && self.hybrid_rays.is_none() {
                 return Err(RenderError::UnsupportedLight {
                     light: light.light(),
                     technique: light.plan.technique,
@@ -341,7 +348,7 @@ impl Techniques {
             stats.prepare(ctx, lights.len(), retired)?;
         }
         let report = RayTracedReport::of(self.rays.scene(), ctx.capabilities().ray_query);
-        for light in lights.iter_mut().filter(|l| l.rays) {
+        for (light, _) in lights.iter_mut().zip(parts.iter()).filter(|(_, parts)| parts.rays) {
             light.plan.ray_traced = Some(report);
         }
         Ok(())
@@ -359,7 +366,7 @@ impl Techniques {
         let mut culling = CullingPlan::default();
         if self.setup.hybrid.cull_blockers && self.setup.cull {
             for light in lights.iter().filter(|l| l.hybrid()) {
-                let (Some(v), Some(map)) = (&light.volumes, &light.map) else { continue };
+                let (Some(v), Some(map)) = (light.volumes(), light.map()) else { continue };
                 if map.views.kind.is_cube() {
                     continue;
                 }
@@ -406,7 +413,7 @@ impl Techniques {
         let keep: Vec<bool> = lights.iter().map(LightFrame::hybrid).collect();
         self.hybrid.bounds.keep_only(&keep, retired);
         for light in lights.iter().filter(|l| l.hybrid()) {
-            if let Some(map) = &light.map {
+            if let Some(map) = light.map() {
                 self.hybrid.bounds.prepare(ctx, light.light(), map.resolution, map.views.kind, retired)?;
             }
         }
@@ -431,6 +438,6 @@ impl Techniques {
     /// Each light's shadow parameters as the scene's light buffer carries them (its map's kind,
     /// first view and bias; zero without a map).
     pub fn gpu_shadows(lights: &[LightFrame]) -> Vec<GpuShadow> {
-        lights.iter().map(|l| l.map.as_ref().map_or_else(GpuShadow::default, |m| m.shadow)).collect()
+        lights.iter().map(|l| l.map().map_or_else(GpuShadow::default, |m| m.shadow)).collect()
     }
 }

@@ -22,7 +22,7 @@ impl Techniques {
         stage: &mut Stage<'a>,
         f: FrameInputs<'a>,
     ) -> Option<&'a RayStats> {
-        let stats = self.ray_stats.as_ref().filter(|_| f.lights.iter().any(|l| l.plan.recorded && l.rays))?;
+        let stats = self.ray_stats.as_ref().filter(|_| f.lights.iter().any(|l| l.plan.recorded && l.rays()))?;
         let (counters, _) = stats.buffers()?;
         stage.pass(PassId::RayStatsReset, &[Use::Buffer(counters, BufferState::TransferDst)], move |cx| {
             stats.record_reset(cx.rec);

@@ -42,7 +42,7 @@ impl Techniques {
         c: &FrameCounts<'_>,
         plan: &mut LightPlan,
     ) -> RenderResult<()> {
-        if let (Some(v), false) = (&light.volumes, c.volume_counts.is_empty()) {
+        if let (Some(v), false) = (light.volumes(), c.volume_counts.is_empty()) {
             plan.shadow_volume = Some(v.counted_report(scene, c.volume_counts));
         }
         if let (Some(r), true) = (plan.shadow_volume.as_mut(), c.overdraw) {
@@ -104,7 +104,7 @@ impl Techniques {
             depth_bounds_epsilon: (self.mask == MaskKind::DepthBounds).then_some(DEPTH_BOUNDS_EPSILON),
             silhouette_pixels,
             silhouette_fraction: silhouette_pixels as f64 / image_pixels as f64,
-            volume_casters: light.volumes.as_ref().map_or(0, |v| v.casters.len()),
+            volume_casters: light.volumes().map_or(0, |v| v.casters.len()),
             culled_casters: light.culled_blockers,
             volume_fragments,
             masked_volume_fragments: match self.mask {

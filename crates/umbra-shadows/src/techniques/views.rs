@@ -3,7 +3,7 @@
 //! hybrid's maps; and every light's volumes settled once culling dropped casters.
 
 use super::inputs::FrameInputs;
-use super::light::LightFrame;
+use super::light::{LightFrame, Prepared};
 use super::Techniques;
 use crate::frame::{PassId, QueryId, Stage, Use};
 use crate::hybrid::cull::CullingPlan;
@@ -21,7 +21,7 @@ impl Techniques {
     pub fn declare_views<'a>(&'a self, stage: &mut Stage<'a>, f: FrameInputs<'a>) -> RenderResult<()> {
         for light in f.lights.iter().filter(|l| l.plan.recorded) {
             let l = light.light();
-            let Some(map) = &light.map else { continue };
+            let Some(map) = light.map() else { continue };
             if map.depth {
                 let image = self.shadow_map.image(l)?;
                 stage.pass(PassId::ShadowMap(l), &[Use::Image(image, Depth)], move |cx| {
@@ -35,7 +35,7 @@ impl Techniques {
                     Ok(())
                 });
             }
-            let (Some(e), Some(depth_set)) = (light.edges, &f.bindings[l].depth_set) else { continue };
+            let (Some(e), Some(depth_set)) = (light.edges(), &f.bindings[l].depth_set) else { continue };
             let (target, image) = (self.silhouette_map.image(Some(l)), self.shadow_map.image(l)?);
             stage.pass(PassId::SilhouetteMap(l), &[Use::Image(target, Color), Use::Image(image, Read)], move |cx| {
                 let map_kind = (map.views.kind, map.resolution);
@@ -60,7 +60,7 @@ impl Techniques {
         for light in f.lights.iter().filter(|l| l.hybrid()) {
             let l = light.light();
             let n = culling.boxes.iter().filter(|(b, _)| *b == l).count() as u32;
-            if let (Some(map), true) = (&light.map, n > 0) {
+            if let (Some(map), true) = (light.map(), n > 0) {
                 let (image, view) = (self.shadow_map.image(l)?, map.shadow.first_view);
                 ranges.push(CullingMap { map: image, boxes: start..start + n, view });
                 start += n;
@@ -78,7 +78,7 @@ impl Techniques {
     /// `culling.boxes` order) from their lights' volumes.
     pub fn apply_culling(&self, lights: &mut [LightFrame], culling: &mut CullingPlan, visible: &[u64]) {
         for (l, caster) in culling.apply(visible) {
-            if let Some(v) = lights[l].volumes.as_mut() {
+            if let Some(v) = lights[l].volumes_mut() {
                 v.casters.remove(caster);
             }
         }
@@ -88,12 +88,14 @@ impl Techniques {
     /// batches and report.
     pub fn settle_volumes(&self, scene: &Scene, lights: &mut [LightFrame], culling: &CullingPlan) {
         for light in lights.iter_mut() {
-            if let Some(v) = light.volumes.as_mut() {
-                v.plan_batches(match light.plan.technique {
-                    umbra_scene::Technique::Hybrid => crate::hybrid::pass::count_bits(self.mask),
-                    _ => crate::shadow_volume::batches::FULL_STENCIL,
-                });
-                light.plan.shadow_volume = Some(v.report(scene));
+            let bits = match &light.prepared {
+                Prepared::Hybrid(..) => crate::hybrid::pass::count_bits(self.mask),
+                _ => crate::shadow_volume::batches::FULL_STENCIL,
+            };
+            if let Some(v) = light.volumes_mut() {
+                v.plan_batches(bits);
+                let report = v.report(scene);
+                light.plan.shadow_volume = Some(report);
             }
             light.culled_blockers = culling.culled(light.light());
             if let Some(n) = light.culled_blockers {
