@@ -1,13 +1,13 @@
-//! The technique seam: what each shadow technique asks of a frame, as one row per
-//! [`Technique`] in one exhaustive `match` ([`needs`]). The planner, the preparation, the
-//! bindings and the declarations read these rows instead of testing technique names, so a
-//! technique added to the enum does not compile until it has its row (see
-//! `docs/architecture.md`, "Adding a technique").
+//! What each shadow technique asks of a frame, as one row per [`Technique`] in one exhaustive
+//! `match` ([`needs`]). The planner and the technique set's preparation (`crate::techniques`)
+//! read these rows instead of testing technique names, so a technique added to the enum does
+//! not compile until it has its row (see `docs/architecture.md`, "Adding a technique").
 //!
 //! Per light every technique goes through the same steps: pick casters (`casters`;
-//! `crate::plan`), prepare (its map, silhouette edges, volumes; `renderer/prepare.rs`), declare
-//! its passes (`lighting`; `renderer/declare.rs` and the technique's own `frame.rs`), report
-//! (`renderer/results.rs`).
+//! `crate::plan`), prepare (its map, silhouette edges, volumes, rays; `techniques/prepare.rs`,
+//! which assembles what it prepared into one `Prepared` per light), declare its passes
+//! (`techniques/declare.rs`, a `match` on `Prepared`, and the technique's own `frame.rs`),
+//! report (`techniques/results.rs`).
 
 use crate::shadow_volume::VolumeMode;
 use umbra_scene::Technique;

@@ -62,10 +62,10 @@ impl Renderer {
     /// The frame's table of contents, for `scene` seen through `view`:
     /// 1. plan: per light, what to record and which casters enter its passes (the slot's last
     ///    frame completed, so what it retired goes);
-    /// 2. prepare each light's technique on the CPU (`prepare.rs`): map views and maps,
-    ///    silhouette edges, volumes, the ray-tracing BVH, blocker boxes, with welded
+    /// 2. prepare each light's technique on the CPU (`Techniques::prepare`): map views and
+    ///    maps, silhouette edges, volumes, the ray-tracing BVH, blocker boxes, with welded
     ///    connectivity cached per mesh revision;
-    /// 3. upload what changed and bind each light's maps (`bind.rs`);
+    /// 3. upload what changed (`prepare.rs`) and bind each light's maps (`Techniques::bind`);
     /// 4. declare the passes into the frame graph and run or record them
     ///    ([`Renderer::declare_frame`]).
     pub(super) fn frame(&mut self, scene: &Scene, view: FrameView, out: Output<'_>) -> RenderResult<Recorded> {
