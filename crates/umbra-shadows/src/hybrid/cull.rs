@@ -73,6 +73,11 @@ pub(crate) struct CullingPlan {
 }
 
 impl CullingPlan {
+    /// The queries its boxes take (one per box; none without blocker culling).
+    pub fn queries(&self) -> u32 {
+        self.boxes.len() as u32
+    }
+
     /// Takes in the queries' answers (`visible[i]`: samples of box `i`); returns the queried
     /// casters with no visible sample, as (light, caster index), highest index first so that
     /// removing them in order keeps the earlier indices valid.

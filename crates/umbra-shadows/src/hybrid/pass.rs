@@ -357,6 +357,7 @@ impl HybridPass {
                 });
             },
             |cx, g, draws| {
+                // Some for volumes built on the GPU (`masked` refused the frame otherwise).
                 if let Some(masked) = masked {
                     masked.record_counting(cx.rec, g, draws, (h.mask, bits), fold, cx.log);
                 }

@@ -1,9 +1,9 @@
 //! The frame's passes, each declared into the frame graph (`record.rs` puts them in order):
-//! the mesh upload (when a mesh changed) and the lights' views (shadow maps, silhouette points,
-//! blocker culling); the renderer's own surfaces (`ambient`, the optional `g-buffer`); every
-//! recorded light's shadows (its technique's passes writing its visibility image, from the
-//! technique's own `frame.rs` or `visibility::declare_map_light`; the diagnostics asked for
-//! are `diagnostics.rs`'s); the renderer's own lights. Each pass names the images it uses; the
+//! the mesh upload (when a mesh changed), an engine's depth rebuilt, and the lights' views (the
+//! technique set's, `crate::techniques`); the renderer's own surfaces (`ambient`, the optional
+//! `g-buffer`); every recorded light's shadows (its technique's visibility passes and
+//! diagnostics, through the technique set; its visibility readback and classification here and
+//! in `diagnostics.rs`); the renderer's own lights. Each pass names the images it uses; the
 //! graph emits the barriers, labels and timestamps (`crate::frame`).
 
 use super::Renderer;

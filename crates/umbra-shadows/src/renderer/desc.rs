@@ -193,9 +193,13 @@ pub(crate) fn check_frame_size(
     let mut images = vec![
         ("colour target", frame_target_desc(width, height)),
         ("depth/stencil target", depth_desc(depth_format, width, height)),
-        ("visibility image", crate::visibility::image_desc(width, height, false)),
     ];
-    images.extend(techniques::frame_images(depth_format, width, height, mask));
+    // The techniques' first (the hybrid's classes) before the visibility image, as always: the
+    // first image over a limit is the one the error names.
+    let mut technique_images = techniques::frame_images(depth_format, width, height, mask).into_iter();
+    images.extend(technique_images.next());
+    images.push(("visibility image", crate::visibility::image_desc(width, height, false)));
+    images.extend(technique_images);
     if desc.gbuffer {
         images.push(("g-buffer", gbuffer::target_desc(width, height)));
     }

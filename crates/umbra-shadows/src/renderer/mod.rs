@@ -2,10 +2,11 @@
 //!
 //! [`Renderer::render`] checks the input, records the frame through [`Renderer::frame`]
 //! (`record.rs`), the same frame [`crate::Shadows::record`] records into an engine's command
-//! buffer — plan (`crate::plan`), prepare each light's technique on the CPU and bind its maps
-//! (through the technique set, `crate::techniques`, the one seam to the techniques), upload
-//! what changed (`prepare.rs`), declare the passes into the frame graph (`declare.rs`,
-//! `crate::frame`) — runs it, then reads back and reports (`results.rs`). Every pass is a debug label with timestamps around it, emitted by the frame
+//! buffer — plan (`crate::plan`), prepare each light's technique on the CPU (through the
+//! technique set, `crate::techniques`, the one seam to the techniques), upload what changed
+//! (`prepare.rs`), bind each light's maps (the technique set), declare the passes into the
+//! frame graph (`declare.rs`, `crate::frame`) — runs it, then reads back and reports
+//! (`results.rs`). Every pass is a debug label with timestamps around it, emitted by the frame
 //! graph; the [`FrameReport`] lists them by name and the graph keys them by
 //! [`crate::frame::PassId`].
 

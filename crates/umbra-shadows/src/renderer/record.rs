@@ -160,15 +160,14 @@ impl Renderer {
         };
         let base = self.inputs(scene, gpu, bindings, depth, rebuild, streams);
         let mut stages = Vec::new();
-        let boxes = streams.blockers.filled().filter(|_| !culling.boxes.is_empty());
+        let boxes = streams.blockers.filled().filter(|_| culling.queries() > 0);
         if let Some(boxes) = boxes {
             let f = FrameInputs { lights, ..base };
             let mut views = graph.stage("frame: views and blocker culling");
             self.declare_views(&mut views, f)?;
             let first = self.techniques.declare_culling(&mut views, f, &culling, boxes)?;
             let done = graph.run(&self.ctx, views)?;
-            let visible: Vec<u64> =
-                (0..culling.boxes.len() as u32).map(|i| done.samples(QueryId(first.0 + i))).collect();
+            let visible: Vec<u64> = (0..culling.queries()).map(|i| done.samples(QueryId(first.0 + i))).collect();
             self.techniques.apply_culling(lights, &mut culling, &visible);
             stages.push(done);
         }

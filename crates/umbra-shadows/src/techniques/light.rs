@@ -74,9 +74,13 @@ pub(crate) enum Prepared {
 /// What each stage of a light's preparation made, before they are one [`Prepared`].
 #[derive(Default)]
 pub(crate) struct Parts {
+    /// Its shadow map (the maps stage).
     pub map: Option<MapFrame>,
+    /// Its silhouette edges (the maps stage, silhouette maps).
     pub edges: Option<LightEdges>,
+    /// Its volumes (the volumes stage).
     pub volumes: Option<LightVolumes>,
+    /// Whether it casts shadow rays (the rays stage).
     pub rays: bool,
 }
 
@@ -90,9 +94,10 @@ impl Parts {
     /// The parts of a light of `technique` as what its passes draw from.
     pub fn assemble(self, technique: Technique) -> Prepared {
         let hybrid = needs(technique).lighting == Lighting::Hybrid;
+        let hybrid_rays = self.hybrid_rays(technique);
         match self {
+            Parts { map: Some(map), .. } if hybrid_rays => Prepared::HybridRays(map),
             Parts { map: Some(map), volumes: Some(volumes), .. } if hybrid => Prepared::Hybrid(map, volumes),
-            Parts { map: Some(map), rays: true, .. } if hybrid => Prepared::HybridRays(map),
             Parts { map: Some(map), edges: Some(edges), .. } => Prepared::SilhouetteMap(map, edges),
             Parts { map: Some(map), .. } => Prepared::Map(map),
             Parts { volumes: Some(volumes), .. } => Prepared::Volumes(volumes),
@@ -132,7 +137,12 @@ impl LightFrame {
     pub fn edges(&self) -> Option<LightEdges> {
         match &self.prepared {
             Prepared::SilhouetteMap(_, e) => Some(*e),
-            _ => None,
+            Prepared::Nothing
+            | Prepared::Map(_)
+            | Prepared::Volumes(_)
+            | Prepared::Rays
+            | Prepared::Hybrid(..)
+            | Prepared::HybridRays(_) => None,
         }
     }
 
@@ -140,7 +150,11 @@ impl LightFrame {
     pub fn volumes(&self) -> Option<&LightVolumes> {
         match &self.prepared {
             Prepared::Volumes(v) | Prepared::Hybrid(_, v) => Some(v),
-            _ => None,
+            Prepared::Nothing
+            | Prepared::Map(_)
+            | Prepared::SilhouetteMap(..)
+            | Prepared::Rays
+            | Prepared::HybridRays(_) => None,
         }
     }
 
@@ -148,31 +162,66 @@ impl LightFrame {
     pub fn volumes_mut(&mut self) -> Option<&mut LightVolumes> {
         match &mut self.prepared {
             Prepared::Volumes(v) | Prepared::Hybrid(_, v) => Some(v),
-            _ => None,
+            Prepared::Nothing
+            | Prepared::Map(_)
+            | Prepared::SilhouetteMap(..)
+            | Prepared::Rays
+            | Prepared::HybridRays(_) => None,
         }
     }
 
     /// Whether it casts shadow rays this frame (the scene's BVH is prepared).
     pub fn rays(&self) -> bool {
-        matches!(self.prepared, Prepared::Rays | Prepared::HybridRays(_))
+        match &self.prepared {
+            Prepared::Rays | Prepared::HybridRays(_) => true,
+            Prepared::Nothing
+            | Prepared::Map(_)
+            | Prepared::SilhouetteMap(..)
+            | Prepared::Volumes(_)
+            | Prepared::Hybrid(..) => false,
+        }
     }
 
     /// Whether the hybrid's own passes run for it: a hybrid light with a map and volumes, or
     /// a ray-traced hybrid's with a map and rays (its classification, then rays for volumes).
     pub fn hybrid(&self) -> bool {
-        matches!(self.prepared, Prepared::Hybrid(..) | Prepared::HybridRays(_))
+        match &self.prepared {
+            Prepared::Hybrid(..) | Prepared::HybridRays(_) => true,
+            Prepared::Nothing
+            | Prepared::Map(_)
+            | Prepared::SilhouetteMap(..)
+            | Prepared::Volumes(_)
+            | Prepared::Rays => false,
+        }
     }
 
     /// Whether it is a ray-traced hybrid light whose classification runs (its silhouette
     /// pixels decided by rays, `crate::hybrid::rays`).
     pub fn hybrid_rays(&self) -> bool {
-        matches!(self.prepared, Prepared::HybridRays(_))
+        match &self.prepared {
+            Prepared::HybridRays(_) => true,
+            Prepared::Nothing
+            | Prepared::Map(_)
+            | Prepared::SilhouetteMap(..)
+            | Prepared::Volumes(_)
+            | Prepared::Rays
+            | Prepared::Hybrid(..) => false,
+        }
     }
 
     /// Whether its technique may write its visibility image this frame: it is recorded and has
     /// a map, volumes (with no volume triangle at all it is lit unshadowed) or rays.
     pub fn may_shadow(&self) -> bool {
-        self.plan.recorded && !matches!(self.prepared, Prepared::Nothing)
+        let prepared = match &self.prepared {
+            Prepared::Nothing => false,
+            Prepared::Map(_)
+            | Prepared::SilhouetteMap(..)
+            | Prepared::Volumes(_)
+            | Prepared::Rays
+            | Prepared::Hybrid(..)
+            | Prepared::HybridRays(_) => true,
+        };
+        self.plan.recorded && prepared
     }
 }
 

@@ -126,7 +126,7 @@ pub(crate) fn mask_for(ctx: &Context, settings: &HybridSettings) -> RenderResult
 }
 
 /// The frame-sized images the techniques may create, named, for a frame of `width` × `height`
-/// over `depth_format` with the hybrid's `mask`.
+/// over `depth_format` with the hybrid's `mask`: the hybrid's classes, then its masked depth.
 pub(crate) fn frame_images(
     depth_format: vk::Format,
     width: u32,

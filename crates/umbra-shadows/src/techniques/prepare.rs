@@ -1,6 +1,7 @@
-//! The CPU half of a frame, per light and per technique: plan, fit and size the shadow maps
-//! (checked against the device and the budget before any is made), extract silhouette edges,
-//! build shadow volumes, list blocker boxes, and upload what changed.
+//! The CPU half of a frame, per light and per technique: fit and size the shadow maps (checked
+//! against the device and the budget before any is made), extract silhouette edges, build
+//! shadow volumes, prepare the BVH, list blocker boxes, and make the lights' targets; each
+//! stage adds its part of a light, assembled into its `Prepared` at the end.
 
 use super::light::{FrameView, LightFrame, Parts};
 use super::{TechniqueSlot, Techniques};
@@ -38,7 +39,7 @@ pub(crate) struct PrepareInputs<'a> {
     pub adjacency: &'a [Arc<Adjacency>],
 }
 
-/// What a frame's preparation gave the passes besides each light's [`super::Prepared`]: every
+/// What a frame's preparation gave the passes besides each light's `Prepared`: every
 /// map's views, in light order (the shadow-view buffer), and the boxes blocker culling queries.
 pub(crate) struct PreparedFrame {
     pub shadow_views: Vec<Mat4>,

@@ -54,7 +54,7 @@ impl Techniques {
         culling: &CullingPlan,
         boxes: &'a Buffer,
     ) -> RenderResult<QueryId> {
-        let first = stage.queries(culling.boxes.len() as u32);
+        let first = stage.queries(culling.queries());
         let mut ranges = Vec::new();
         let mut start = 0;
         for light in f.lights.iter().filter(|l| l.hybrid()) {
@@ -88,11 +88,17 @@ impl Techniques {
     /// batches and report.
     pub fn settle_volumes(&self, scene: &Scene, lights: &mut [LightFrame], culling: &CullingPlan) {
         for light in lights.iter_mut() {
+            // Every count at once for a shadow-volume light; the hybrid's under its mask.
             let bits = match &light.prepared {
-                Prepared::Hybrid(..) => crate::hybrid::pass::count_bits(self.mask),
-                _ => crate::shadow_volume::batches::FULL_STENCIL,
+                Prepared::Hybrid(..) => Some(crate::hybrid::pass::count_bits(self.mask)),
+                Prepared::Volumes(_) => Some(crate::shadow_volume::batches::FULL_STENCIL),
+                Prepared::Nothing
+                | Prepared::Map(_)
+                | Prepared::SilhouetteMap(..)
+                | Prepared::Rays
+                | Prepared::HybridRays(_) => None,
             };
-            if let Some(v) = light.volumes_mut() {
+            if let (Some(bits), Some(v)) = (bits, light.volumes_mut()) {
                 v.plan_batches(bits);
                 let report = v.report(scene);
                 light.plan.shadow_volume = Some(report);
