@@ -290,7 +290,8 @@ impl Engine {
     pub fn shade<'a>(&'a self, rec: &mut Recorder<'a>, slot: usize, scene: &Scene) -> anyhow::Result<()> {
         rec.begin_label("engine shading");
         rec.transition(&[(&self.color, ImageState::Undefined, ImageState::ColorAttachment)]);
-        let color = [ColorAttachment { image: &self.color, clear: Some(scene.background.extend(1.0).to_array()) }];
+        let color =
+            [ColorAttachment { image: &self.color, view: None, clear: Some(scene.background.extend(1.0).to_array()) }];
         let depth = DepthAttachment::keep(&self.depth);
         rec.begin_rendering(&RenderTargets { color: &color, depth: Some(depth) });
         rec.bind_pipeline(&self.shading);

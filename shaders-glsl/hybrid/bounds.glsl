@@ -13,7 +13,7 @@
 
 #include "common/scene.glsl"
 
-// push.view packs the light (bits 4..), the map layer (cube face, bits 1..3) and whether the
+// push.view packs the light (bits 4..), the map face (cube face, bits 1..3) and whether the
 // object's mesh is closed (bit 0).
 uint bounds_light() {
     return push.view >> 4;
@@ -25,6 +25,13 @@ uint bounds_face() {
 
 bool bounds_closed() {
     return (push.view & 1u) != 0u;
+}
+
+// Whether the triangle of homogeneous corners c0, c1, c2 (clip x, y, w) is edge-on to the light
+// (or nearly): its determinant at most `tolerance` of its scale.
+bool bounds_edge_on(vec3 c0, vec3 c1, vec3 c2, float tolerance) {
+    float det = dot(c0, cross(c1, c2));
+    return abs(det) <= tolerance * length(c0) * length(c1) * length(c2);
 }
 
 // The light's depth measure of a clip-space position of view `l`.

@@ -12,7 +12,7 @@
 
 layout(constant_id = 1) const bool OUTSIDE_LIT = true;
 
-// Layer 2 f holds face f's nearest bounds, 2 f + 1 its covering bounds.
+// Layer f holds face f's nearest (R) and covering (G) bounds.
 layout(set = 1, binding = 4) uniform sampler2DArray hybrid_bounds;
 
 const float CERTAINLY_SHADOWED = 0.0;
@@ -38,8 +38,9 @@ float bounded_visibility(Light l, vec3 p) {
     ivec2 t = clamp(ivec2(texel), ivec2(0), ivec2(int(size) - 1));
     float depth = light_depth(l, clip);
     float margin = l.position.w == 0.0 ? 2e-5 : 1e-4 * depth;
-    float nearest = texelFetch(hybrid_bounds, ivec3(t, int(2u * face)), 0).r;
-    float covering = texelFetch(hybrid_bounds, ivec3(t, int(2u * face + 1u)), 0).r;
+    vec2 bounds = texelFetch(hybrid_bounds, ivec3(t, int(face)), 0).rg;
+    float nearest = bounds.r;
+    float covering = bounds.g;
     if (depth + margin < nearest) {
         return CERTAINLY_LIT;
     }

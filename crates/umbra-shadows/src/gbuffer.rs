@@ -77,8 +77,10 @@ impl GBufferPass {
         depth: &'a Image,
     ) {
         let (p, n) = (&self.position, &self.normal);
-        let color =
-            [ColorAttachment { image: p, clear: Some([0.0; 4]) }, ColorAttachment { image: n, clear: Some([0.0; 4]) }];
+        let color = [
+            ColorAttachment { image: p, view: None, clear: Some([0.0; 4]) },
+            ColorAttachment { image: n, view: None, clear: Some([0.0; 4]) },
+        ];
         cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(DepthAttachment::keep(depth)) });
         cx.rec.bind_pipeline(&self.pipeline);
         crate::light_surfaces::draw_objects(cx.rec, layout, gpu, scene, 0, cx.log);

@@ -52,7 +52,7 @@ impl<'a> LightSurfaces<'a, '_> {
 /// Begins a pass over the frame's surfaces: one colour target (`clear`ed or kept) and the
 /// frame's depth, kept, for the EQUAL test.
 pub(crate) fn over_surfaces<'a>(rec: &mut Recorder<'a>, image: &'a Image, clear: Option<[f32; 4]>, depth: &'a Image) {
-    let color = [ColorAttachment { image, clear }];
+    let color = [ColorAttachment { image, view: None, clear }];
     rec.begin_rendering(&RenderTargets { color: &color, depth: Some(DepthAttachment::keep(depth)) });
 }
 

@@ -64,6 +64,8 @@ pub struct Capabilities {
     pub depth_stencil_format: vk::Format,
     /// `D32_SFLOAT` usable as a sampled depth attachment (shadow maps).
     pub depth32_sampled: bool,
+    /// `R32G32_SFLOAT` colour attachments blend (the hybrid's depth bounds, kept by `MIN`).
+    pub rg32f_blend: bool,
     /// `maxImageDimension2D`.
     pub max_image_dimension_2d: u32,
     /// `maxImageDimensionCube`.
@@ -120,6 +122,7 @@ pub(crate) struct Probe<'a> {
     pub conservative_rasterization: bool,
     pub depth_stencil_formats: Vec<vk::Format>,
     pub depth32_sampled: bool,
+    pub rg32f_blend: bool,
     pub ray_query: bool,
 }
 
@@ -167,6 +170,7 @@ impl Capabilities {
             depth_stencil_formats: p.depth_stencil_formats.iter().map(|f| format!("{f:?}")).collect(),
             depth_stencil_format: p.depth_stencil_formats.first().copied().unwrap_or(vk::Format::UNDEFINED),
             depth32_sampled: p.depth32_sampled,
+            rg32f_blend: p.rg32f_blend,
             ray_query: p.ray_query,
             max_image_dimension_2d: limits.max_image_dimension2_d,
             max_image_dimension_cube: limits.max_image_dimension_cube,

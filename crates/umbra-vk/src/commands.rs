@@ -34,8 +34,10 @@ pub struct VertexStreamBinding {
 /// A colour attachment of a rendering pass.
 #[derive(Clone, Copy, Debug)]
 pub struct ColorAttachment<'a> {
-    /// The image rendered to (its default view), in [`ImageState::ColorAttachment`].
+    /// The image rendered to, in [`ImageState::ColorAttachment`].
     pub image: &'a Image,
+    /// The view rendered to (one layer of an array), or `None` for the image's default view.
+    pub view: Option<&'a ImageView>,
     /// Clear to this colour at the start, or keep the content (`None`).
     pub clear: Option<[f32; 4]>,
 }
@@ -330,7 +332,7 @@ impl<'a> Recorder<'a> {
             .iter()
             .map(|c| {
                 vk::RenderingAttachmentInfo::default()
-                    .image_view(c.image.view)
+                    .image_view(c.view.map_or(c.image.view, |v| v.raw))
                     .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
                     .load_op(if c.clear.is_some() { vk::AttachmentLoadOp::CLEAR } else { vk::AttachmentLoadOp::LOAD })
                     .store_op(vk::AttachmentStoreOp::STORE)
@@ -674,6 +676,22 @@ impl<'a> Recorder<'a> {
         // SAFETY: alive for 'a; in TRANSFER_DST_OPTIMAL (caller transitions); TRANSFER_DST usage.
         unsafe {
             self.device().cmd_clear_depth_stencil_image(
+                self.cmd,
+                image.raw,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &value,
+                &[range],
+            )
+        };
+    }
+
+    /// Clears every layer of a float colour image (in `TransferDst`) to `value`.
+    pub fn clear_color_image(&mut self, image: &'a Image, value: [f32; 4]) {
+        let range = image.range(0, image.desc.layers);
+        let value = vk::ClearColorValue { float32: value };
+        // SAFETY: alive for 'a; in TRANSFER_DST_OPTIMAL (caller transitions); TRANSFER_DST usage.
+        unsafe {
+            self.device().cmd_clear_color_image(
                 self.cmd,
                 image.raw,
                 vk::ImageLayout::TRANSFER_DST_OPTIMAL,

@@ -622,6 +622,10 @@ fn probe(
             conservative_rasterization: conservative,
             depth_stencil_formats,
             depth32_sampled,
+            rg32f_blend: supports(
+                vk::Format::R32G32_SFLOAT,
+                vk::FormatFeatureFlags::COLOR_ATTACHMENT | vk::FormatFeatureFlags::COLOR_ATTACHMENT_BLEND,
+            ),
             ray_query: ray_query_offered(instance, pd),
         })
     }

@@ -240,6 +240,14 @@ impl Image {
         Ok(ImageView { raw, ctx: self.ctx.clone() })
     }
 
+    /// A 2D-array view of every layer, whatever their count (the default view of a one-layer
+    /// image is `2D`; a shader declaring an array reads this one).
+    pub fn array_view(&self, name: &str) -> VkResult<ImageView> {
+        let raw = self.create_view(vk::ImageViewType::TYPE_2D_ARRAY, 0, self.desc.layers)?;
+        self.ctx.set_name(raw, name);
+        Ok(ImageView { raw, ctx: self.ctx.clone() })
+    }
+
     fn create_view(&self, view_type: vk::ImageViewType, first: u32, count: u32) -> VkResult<vk::ImageView> {
         let info = vk::ImageViewCreateInfo::default()
             .image(self.raw)

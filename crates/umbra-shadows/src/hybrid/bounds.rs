@@ -4,11 +4,13 @@
 //! (`hybrid classify N`) decides a pixel from them only where they cannot be wrong; see
 //! `docs/techniques/hybrid.md`, "A classification that cannot be wrong".
 //!
-//! One D32 2D-array image per hybrid light: layer `2 f` holds face `f`'s nearest bounds, layer
-//! `2 f + 1` its covering bounds (one face for spot and directional lights, six for cube maps).
-//! Triangles are pulled whole from the scene's vertex and index buffers (bound as storage
-//! buffers at set 1 of this pass's own layout), so that each texel's square is tested against
-//! the real triangle: no `VK_EXT_conservative_rasterization` and no geometry shader needed.
+//! One RG32F 2D-array image per hybrid light, a layer per map face (one for spot and
+//! directional lights, six for cube maps): R the nearest bounds, G the covering bounds, both
+//! made in one pass per face and kept by `MIN` blending. Triangles are pulled whole from the
+//! scene's vertex and index buffers (bound as storage buffers at set 1 of this pass's own
+//! layout) and each is drawn once, as a triangle around the texels it may touch, so that each
+//! texel's square is tested against the real triangle: no `VK_EXT_conservative_rasterization`
+//! and no geometry shader needed.
 
 use crate::frame::PassRecorder;
 use crate::gpu_scene::{DrawPush, GpuScene, SceneGeometry};
@@ -18,48 +20,58 @@ use crate::RenderResult;
 use std::sync::Arc;
 use umbra_scene::{Adjacency, Scene};
 use umbra_vk::{
-    vk, Binding, Context, DepthAttachment, DepthState, DescriptorSet, DescriptorSetLayout, GraphicsPipeline,
-    GraphicsPipelineDesc, Image, ImageDesc, ImageState, ImageView, PipelineLayout, RenderTargets, Resource,
+    vk, Binding, Blend, ColorAttachment, ColorTarget, Context, DepthState, DescriptorSet, DescriptorSetLayout,
+    GraphicsPipeline, GraphicsPipelineDesc, Image, ImageDesc, ImageState, ImageView, PipelineLayout, RenderTargets,
+    Resource,
 };
 
-/// The bounds' format: the light's depth measure as a 32-bit float.
-const FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+/// The bounds' format: the light's depth measure as 32-bit floats, nearest (R) and covering (G).
+const FORMAT: vk::Format = vk::Format::R32G32_SFLOAT;
 
-/// Layers per map face: nearest, covering.
-pub(crate) const LAYERS_PER_FACE: u32 = 2;
+/// What a texel bounds before any triangle: nothing (the far end of the light's depth).
+const NOTHING: [f32; 4] = [1.0; 4];
 
-/// One light's bounds image and a view per layer to render into.
+/// The bytes of a light's bounds for a map of `map_bytes` (a D32 texel per face texel): twice
+/// as many, two 32-bit floats per texel.
+pub(crate) fn bytes(map_bytes: u64) -> u64 {
+    2 * map_bytes
+}
+
+/// One light's bounds image, a view per face to render into, and its 2D-array view (what the
+/// classification samples).
 struct BoundsTarget {
     image: Image,
     layers: Vec<ImageView>,
+    array: ImageView,
 }
 
-/// The bounds pipelines, their layout, the scene's geometry set and every hybrid light's
-/// bounds image.
+/// The bounds pipeline, its layout, the scene's geometry set and every hybrid light's bounds
+/// image.
 pub(crate) struct BoundsPass {
-    /// `[nearest, covering]`.
-    pipelines: [GraphicsPipeline; 2],
+    /// `None` where `R32G32_SFLOAT` cannot blend: a hybrid light is then refused.
+    pipeline: Option<GraphicsPipeline>,
     layout: PipelineLayout,
     geometry_layout: DescriptorSetLayout,
     /// The storage-buffer set of the scene geometry it was made for (remade with the geometry).
     geometry: Option<(Arc<SceneGeometry>, DescriptorSet)>,
     /// Per mesh, whether it is closed (this frame's `Adjacency`), reused from frame to frame.
     closed: Vec<bool>,
-    /// Bound by lights without bounds (2 layers of depth 1, never read).
-    placeholder: Image,
+    /// Bound by lights without bounds (one layer bounding nothing, never read), and its 2D-array
+    /// view.
+    placeholder: (Image, ImageView),
     targets: Vec<Option<BoundsTarget>>,
 }
 
 /// The image of a `resolution` bounds map with `faces` faces.
 fn bounds_desc(resolution: u32, faces: u32) -> ImageDesc {
-    let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
+    let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
     let mut desc = ImageDesc::new_2d(FORMAT, resolution, resolution).usage(usage);
-    desc.layers = faces * LAYERS_PER_FACE;
+    desc.layers = faces;
     desc
 }
 
 impl BoundsPass {
-    /// Builds both pipelines with their own layout: set 0 the scene's (`scene_set_layout`),
+    /// Builds the pipeline with its own layout: set 0 the scene's (`scene_set_layout`),
     /// set 1 the geometry's storage buffers, the renderer's push constants.
     pub fn new(ctx: &Context, scene_set_layout: &DescriptorSetLayout) -> RenderResult<Self> {
         let stages = vk::ShaderStageFlags::VERTEX;
@@ -71,31 +83,46 @@ impl BoundsPass {
         )?;
         let push = std::mem::size_of::<DrawPush>() as u32;
         let layout = PipelineLayout::new(ctx, "hybrid bounds layout", &[scene_set_layout, &geometry_layout], push)?;
-        let pipeline = |name: &str, bound: u32| -> RenderResult<GraphicsPipeline> {
-            let spec = [(0, bound)];
-            let mut desc = GraphicsPipelineDesc::new(name, umbra_shaders::hybrid::BOUNDS_VERT);
-            desc.fragment = Some(umbra_shaders::hybrid::BOUNDS_FRAG);
-            desc.specialization = &spec;
-            desc.cull = vk::CullModeFlags::NONE;
-            desc.depth = DepthState { compare: vk::CompareOp::LESS, ..DepthState::TEST_AND_WRITE };
-            desc.depth_format = FORMAT;
-            Ok(GraphicsPipeline::new(ctx, &layout, &desc)?)
+        // Each texel keeps the least of every bound written to it.
+        let least = Blend {
+            src: vk::BlendFactor::ONE,
+            dst: vk::BlendFactor::ONE,
+            op: vk::BlendOp::MIN,
+            src_alpha: vk::BlendFactor::ONE,
+            dst_alpha: vk::BlendFactor::ONE,
+            alpha_op: vk::BlendOp::MIN,
         };
-        let pipelines = [pipeline("hybrid bounds (nearest)", 0)?, pipeline("hybrid bounds (covering)", 1)?];
+        let target = [ColorTarget {
+            format: FORMAT,
+            blend: Some(least),
+            write_mask: vk::ColorComponentFlags::R | vk::ColorComponentFlags::G,
+        }];
+        let pipeline = match ctx.capabilities().rg32f_blend {
+            true => {
+                let mut desc = GraphicsPipelineDesc::new("hybrid bounds", umbra_shaders::hybrid::BOUNDS_VERT);
+                desc.fragment = Some(umbra_shaders::hybrid::BOUNDS_FRAG);
+                desc.cull = vk::CullModeFlags::NONE;
+                desc.depth = DepthState::NONE;
+                desc.color_targets = &target;
+                Some(GraphicsPipeline::new(ctx, &layout, &desc)?)
+            }
+            false => None,
+        };
         let usage = vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST;
         let placeholder = Image::new(ctx, "no hybrid bounds", bounds_desc(1, 1).usage(usage))?;
         let mut rec = ctx.begin_commands("clear the hybrid bounds placeholder")?;
         rec.transition(&[(&placeholder, ImageState::Undefined, ImageState::TransferDst)]);
-        rec.clear_depth_image(&placeholder, 1.0);
+        rec.clear_color_image(&placeholder, NOTHING);
         rec.transition(&[(&placeholder, ImageState::TransferDst, ImageState::FragmentRead)]);
         ctx.submit_and_wait(rec)?;
+        let placeholder_array = placeholder.array_view("no hybrid bounds (array)")?;
         Ok(Self {
-            pipelines,
+            pipeline,
             layout,
             geometry_layout,
             geometry: None,
             closed: Vec::new(),
-            placeholder,
+            placeholder: (placeholder, placeholder_array),
             targets: Vec::new(),
         })
     }
@@ -131,6 +158,10 @@ impl BoundsPass {
         kind: MapKind,
         retired: &mut Retired,
     ) -> RenderResult<()> {
+        if self.pipeline.is_none() {
+            let what = "the hybrid's depth bounds (blending on R32G32_SFLOAT colour attachments)";
+            return Err(ctx.unsupported(what).into());
+        }
         if self.targets.len() <= light {
             self.targets.resize_with(light + 1, || None);
         }
@@ -148,12 +179,10 @@ impl BoundsPass {
         let name = format!("hybrid bounds light {light}");
         let image = Image::new(ctx, &name, desc)?;
         let layers = (0..desc.layers)
-            .map(|layer| {
-                let what = if layer % LAYERS_PER_FACE == 0 { "nearest" } else { "covering" };
-                image.layer_view(layer, &format!("{name} face {} {what}", layer / LAYERS_PER_FACE))
-            })
+            .map(|face| image.layer_view(face, &format!("{name} face {face}")))
             .collect::<Result<_, _>>()?;
-        self.targets[light] = Some(BoundsTarget { image, layers });
+        let array = image.array_view(&format!("{name} (array)"))?;
+        self.targets[light] = Some(BoundsTarget { image, layers, array });
         Ok(())
     }
 
@@ -162,14 +191,23 @@ impl BoundsPass {
         crate::budget::release_unused(&mut self.targets, keep, retired);
     }
 
-    /// Light `light`'s bounds image, or the placeholder (set 1, binding 4 of its lighting
-    /// passes).
-    pub fn image(&self, light: Option<usize>) -> &Image {
-        light.and_then(|l| self.targets.get(l)).and_then(Option::as_ref).map_or(&self.placeholder, |t| &t.image)
+    fn target(&self, light: Option<usize>) -> Option<&BoundsTarget> {
+        light.and_then(|l| self.targets.get(l)).and_then(Option::as_ref)
     }
 
-    /// Records light `light`'s bounds (its image in [`ImageState::DepthStencilAttachment`]):
-    /// per face, the nearest then the covering bounds of the casters `views` draws into it.
+    /// Light `light`'s bounds image, or the placeholder.
+    pub fn image(&self, light: Option<usize>) -> &Image {
+        self.target(light).map_or(&self.placeholder.0, |t| &t.image)
+    }
+
+    /// The view of light `light`'s bounds, or of the placeholder, that its lighting passes
+    /// sample (set 1, binding 4).
+    pub fn sampled(&self, light: Option<usize>) -> vk::ImageView {
+        self.target(light).map_or(self.placeholder.1.raw, |t| t.array.raw)
+    }
+
+    /// Records light `light`'s bounds (its image in [`ImageState::ColorAttachment`]): per face,
+    /// both bounds of every caster `views` draws into it.
     pub fn record<'a>(
         &'a self,
         cx: &mut PassRecorder<'_, 'a>,
@@ -178,15 +216,14 @@ impl BoundsPass {
         light: usize,
         views: &LightViews,
     ) {
-        let (Some(target), Some((_, geometry))) = (self.targets.get(light).and_then(Option::as_ref), &self.geometry)
-        else {
+        let target = self.targets.get(light).and_then(Option::as_ref);
+        let (Some(target), Some((_, geometry)), Some(pipeline)) = (target, &self.geometry, &self.pipeline) else {
             return;
         };
-        for (layer, view) in target.layers.iter().enumerate() {
-            let face = layer / LAYERS_PER_FACE as usize;
-            let depth = DepthAttachment { view: Some(view), ..DepthAttachment::cleared(&target.image, 1.0, 0) };
-            cx.rec.begin_rendering(&RenderTargets { color: &[], depth: Some(depth) });
-            cx.rec.bind_pipeline(&self.pipelines[layer % LAYERS_PER_FACE as usize]);
+        for (face, view) in target.layers.iter().enumerate() {
+            let color = [ColorAttachment { image: &target.image, view: Some(view), clear: Some(NOTHING) }];
+            cx.rec.begin_rendering(&RenderTargets { color: &color, depth: None });
+            cx.rec.bind_pipeline(pipeline);
             cx.rec.bind_descriptor_set(&self.layout, 0, &gpu.frame.set);
             cx.rec.bind_descriptor_set(&self.layout, 1, geometry);
             for &object in views.casters_of(face) {
@@ -195,9 +232,9 @@ impl BoundsPass {
                 let closed = self.closed.get(o.mesh).copied().unwrap_or(false);
                 let view = (light as u32) << 4 | (face as u32) << 1 | u32::from(closed);
                 cx.rec.push_constants(&self.layout, &DrawPush { object: object as u32, view });
-                // Six vertices (a rectangle) per triangle: bounds.vert.
+                // One triangle around each triangle's texels: bounds.vert.
                 let offset = m.vertex_offset.max(0) as u32;
-                cx.rec.draw_range_as_instance(2 * m.index_count, 2 * m.first_index, offset);
+                cx.rec.draw_range_as_instance(m.index_count, m.first_index, offset);
                 cx.log.count_draw(u64::from(m.index_count / 3));
             }
             cx.rec.end_rendering();

@@ -298,8 +298,8 @@ impl HybridPass {
     pub fn record_classify<'a>(&'a self, cx: &mut PassRecorder<'_, 'a>, h: &HybridLight<'a>) {
         let Some(classes) = self.classes() else { return };
         let color = [
-            ColorAttachment { image: h.visibility, clear: Some([0.0; 4]) },
-            ColorAttachment { image: classes, clear: Some([0.0; 4]) },
+            ColorAttachment { image: h.visibility, view: None, clear: Some([0.0; 4]) },
+            ColorAttachment { image: classes, view: None, clear: Some([0.0; 4]) },
         ];
         cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(DepthAttachment::keep(h.depth)) });
         cx.rec.bind_pipeline(&self.classify);
@@ -386,7 +386,7 @@ impl HybridPass {
     /// pixels' visibility, 1 where their count is zero and 0 where it is not.
     pub fn record_visibility<'a>(&'a self, cx: &mut PassRecorder<'_, 'a>, h: &HybridLight<'a>) {
         let target = self.count_target(h.mask, h.depth);
-        let color = [ColorAttachment { image: h.visibility, clear: None }];
+        let color = [ColorAttachment { image: h.visibility, view: None, clear: None }];
         cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(DepthAttachment::keep(target)) });
         let pipelines = if h.mask == MaskKind::Stencil { &self.resolve_count_bits } else { &self.resolve };
         for pipeline in pipelines {

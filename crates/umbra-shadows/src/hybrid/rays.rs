@@ -243,9 +243,9 @@ impl HybridRays {
     pub fn record_classify<'a>(&'a self, cx: &mut PassRecorder<'_, 'a>, r: &RaysLight<'a>) {
         let Some(list) = &self.list else { return };
         let color = [
-            ColorAttachment { image: r.visibility, clear: Some([0.0; 4]) },
-            ColorAttachment { image: r.classes, clear: Some([0.0; 4]) },
-            ColorAttachment { image: &list.pixel_rays, clear: Some([0.0; 4]) },
+            ColorAttachment { image: r.visibility, view: None, clear: Some([0.0; 4]) },
+            ColorAttachment { image: r.classes, view: None, clear: Some([0.0; 4]) },
+            ColorAttachment { image: &list.pixel_rays, view: None, clear: Some([0.0; 4]) },
         ];
         cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(DepthAttachment::keep(r.depth)) });
         cx.rec.bind_pipeline(&self.classify);

@@ -40,7 +40,7 @@ impl Renderer {
         let (color, depth) = (&self.own()?.color, f.depth);
         stage.pass(PassId::Ambient, &[Use::Image(color, Color), Use::Image(depth, Depth)], move |cx| {
             let bg = f.scene.background;
-            let clear = [ColorAttachment { image: color, clear: Some([bg.x, bg.y, bg.z, 1.0]) }];
+            let clear = [ColorAttachment { image: color, view: None, clear: Some([bg.x, bg.y, bg.z, 1.0]) }];
             let depth = DepthAttachment::cleared(depth, 1.0, 0);
             cx.rec.begin_rendering(&RenderTargets { color: &clear, depth: Some(depth) });
             self.forward.record_ambient(cx.rec, &self.layout, f.gpu, f.scene, cx.log);

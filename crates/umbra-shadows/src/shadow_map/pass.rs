@@ -257,8 +257,8 @@ impl ShadowMapPass {
     /// light's shadow kind is `SHADOW_NONE`) when it has none this frame, compared through the
     /// settings' filter; and
     /// `technique_image` at binding 3 (the light's silhouette map, the hybrid's silhouette-pixel
-    /// classes, or a placeholder) and `bounds` at binding 4 (the hybrid's depth bounds, or a
-    /// placeholder).
+    /// classes, or a placeholder) and `bounds` at binding 4 (the view of the hybrid's depth
+    /// bounds, or of a placeholder).
     /// The set comes from `arena` (this frame's); its index there is returned.
     pub fn descriptor_set(
         &self,
@@ -266,7 +266,7 @@ impl ShadowMapPass {
         layout: &DescriptorSetLayout,
         light: Option<usize>,
         technique_image: &Image,
-        bounds: &Image,
+        bounds: vk::ImageView,
     ) -> RenderResult<usize> {
         let target = light.and_then(|l| self.targets.get(l)).and_then(Option::as_ref);
         let (single, cube) = match target {
@@ -274,11 +274,12 @@ impl ShadowMapPass {
             Some(t) => (&t.image, &self.placeholder_cube),
             None => (&self.placeholder_2d, &self.placeholder_cube),
         };
-        let sampled = |image: &Image, sampler: &Sampler| Resource::SampledImage {
-            view: image.view,
+        let view = |view: vk::ImageView, sampler: &Sampler| Resource::SampledImage {
+            view,
             sampler: sampler.raw,
             layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
         };
+        let sampled = |image: &Image, sampler: &Sampler| view(image.view, sampler);
         let name = match light {
             Some(l) => format!("shadow set light {l}"),
             None => "shadow set (none)".to_owned(),
@@ -289,7 +290,7 @@ impl ShadowMapPass {
             sampled(cube, compare),
             sampled(single, raw),
             sampled(technique_image, raw),
-            sampled(bounds, raw),
+            view(bounds, raw),
         ];
         Ok(arena.allocate(&name, layout, &resources)?)
     }

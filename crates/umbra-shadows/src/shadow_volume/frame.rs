@@ -188,7 +188,7 @@ pub(crate) fn declare_overdraw<'a>(
     let uses = [vec![Use::Image(image, ImageState::ColorAttachment)], v.source.reads()].concat();
     stage.pass(PassId::VolumeOverdraw(l), &uses, move |cx| {
         let clear = first.then_some([0.0; 4]);
-        cx.rec.begin_rendering(&RenderTargets { color: &[ColorAttachment { image, clear }], depth: None });
+        cx.rec.begin_rendering(&RenderTargets { color: &[ColorAttachment { image, view: None, clear }], depth: None });
         cx.begin_query(query);
         v.draw(
             cx,

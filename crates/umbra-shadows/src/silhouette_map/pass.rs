@@ -87,7 +87,7 @@ impl SilhouetteMapPass {
         )?;
         let mut rec = ctx.begin_commands("clear silhouette placeholder")?;
         rec.transition(&[(&placeholder, ImageState::Undefined, ImageState::ColorAttachment)]);
-        let clear = [ColorAttachment { image: &placeholder, clear: Some(default_clear()) }];
+        let clear = [ColorAttachment { image: &placeholder, view: None, clear: Some(default_clear()) }];
         rec.begin_rendering(&RenderTargets { color: &clear, depth: None });
         rec.end_rendering();
         rec.transition(&[(&placeholder, ImageState::ColorAttachment, ImageState::FragmentRead)]);
@@ -169,7 +169,7 @@ impl SilhouetteMapPass {
             why: "silhouette map recorded before `prepare`".into(),
             limit: None,
         })?;
-        let color = [ColorAttachment { image: target, clear: Some(default_clear()) }];
+        let color = [ColorAttachment { image: target, view: None, clear: Some(default_clear()) }];
         rec.begin_rendering(&RenderTargets { color: &color, depth: None });
         if let (Some(buffer), true) = (instances, edges.count > 0) {
             rec.bind_pipeline(&self.points);

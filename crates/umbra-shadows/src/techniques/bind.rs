@@ -50,13 +50,13 @@ impl Techniques {
             let (technique_image, bounds) = match (&light.prepared, self.hybrid.classes()) {
                 (Prepared::Hybrid(..) | Prepared::HybridRays(_), classes) => {
                     let image = classes.unwrap_or_else(|| self.silhouette_map.image(None));
-                    (image, self.hybrid.bounds.image(Some(l)))
+                    (image, self.hybrid.bounds.sampled(Some(l)))
                 }
                 (Prepared::SilhouetteMap(..), _) => {
-                    (self.silhouette_map.image(Some(l)), self.hybrid.bounds.image(None))
+                    (self.silhouette_map.image(Some(l)), self.hybrid.bounds.sampled(None))
                 }
                 (Prepared::Nothing | Prepared::Map(_) | Prepared::Volumes(_) | Prepared::Rays, _) => {
-                    (self.silhouette_map.image(None), self.hybrid.bounds.image(None))
+                    (self.silhouette_map.image(None), self.hybrid.bounds.sampled(None))
                 }
             };
             let set = self.shadow_map.descriptor_set(arena, layout, has_map, technique_image, bounds)?;
@@ -65,7 +65,7 @@ impl Techniques {
         if light.edges().is_some() {
             // Pass 2 reads the depth map raw while it writes the silhouette map, which its set
             // must not bind: the placeholder stands in.
-            let (placeholder, bounds) = (self.silhouette_map.image(None), self.hybrid.bounds.image(None));
+            let (placeholder, bounds) = (self.silhouette_map.image(None), self.hybrid.bounds.sampled(None));
             out.depth_set = Some(self.shadow_map.descriptor_set(arena, layout, Some(l), placeholder, bounds)?);
         }
         self.keep_readbacks(ctx, kept, light)?;

@@ -271,8 +271,8 @@ impl Techniques {
         let surfaces = f.surfaces(light);
         stage.pass(PassId::SilhouetteDiagnostics(l), &uses, move |cx| {
             let color = [
-                ColorAttachment { image: class, clear: Some(crate::diagnostics::BACKGROUND) },
-                ColorAttachment { image: points, clear: Some([0.0; 4]) },
+                ColorAttachment { image: class, view: None, clear: Some(crate::diagnostics::BACKGROUND) },
+                ColorAttachment { image: points, view: None, clear: Some([0.0; 4]) },
             ];
             cx.rec.begin_rendering(&RenderTargets { color: &color, depth: Some(DepthAttachment::keep(depth)) });
             self.silhouette_map.record_diagnostics(cx, f.layout, surfaces, shadow_set);

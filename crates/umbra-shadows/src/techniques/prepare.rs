@@ -201,8 +201,8 @@ impl Techniques {
                 tally(&mut plan.culled, CullReason::OutsideMapView, out);
             }
             let map_bytes = self.shadow_map.check(ctx, plan.light, resolution, views.kind)?;
-            // The hybrid's depth bounds: two layers per face of the map's D32 depth; its depth
-            // map only where blocker culling queries it.
+            // The hybrid's depth bounds: two floats per texel of the map's faces; its depth map
+            // only where blocker culling queries it.
             let bounds = needs(plan.technique).map == Some(MapSize::Hybrid);
             let volumes = needs(plan.technique).volumes.is_some();
             let depth = !bounds || (self.setup.hybrid.cull_blockers && volumes);
@@ -213,7 +213,7 @@ impl Techniques {
                 bytes += if self.setup.diagnostics { 2 * map } else { map };
             }
             if bounds {
-                bytes += u64::from(crate::hybrid::bounds::LAYERS_PER_FACE) * map_bytes;
+                bytes += crate::hybrid::bounds::bytes(map_bytes);
             }
             let cube = views.kind.is_cube();
             // A silhouette map's cube faces carry borders in its atlas.

@@ -30,7 +30,7 @@ impl Techniques {
             }
             if light.hybrid() {
                 let bounds = self.hybrid.bounds.image(Some(l));
-                stage.pass(PassId::HybridBounds(l), &[Use::Image(bounds, Depth)], move |cx| {
+                stage.pass(PassId::HybridBounds(l), &[Use::Image(bounds, Color)], move |cx| {
                     self.hybrid.bounds.record(cx, f.gpu, f.scene, l, &map.views);
                     Ok(())
                 });
