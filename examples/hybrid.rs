@@ -75,7 +75,7 @@ fn main() -> anyhow::Result<()> {
     // out of the total.
     desc.shadow_volume.overdraw = true;
     desc.diagnostics = args.debug_view;
-    args.common.apply_score(&mut desc);
+    args.common.apply(&mut desc);
     if args.common.window {
         return common::window::run(&args.common, "hybrid", scene, desc);
     }

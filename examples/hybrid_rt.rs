@@ -28,7 +28,7 @@ fn main() -> anyhow::Result<()> {
     let scene = args.common.scene_with(Technique::HybridRt)?;
     let (width, height) = args.common.size;
     let mut desc = RendererDesc::new(width, height);
-    args.common.apply_score(&mut desc);
+    args.common.apply(&mut desc);
     if args.common.window {
         return common::window::run(&args.common, "hybrid_rt", scene, desc);
     }

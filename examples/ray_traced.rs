@@ -26,7 +26,7 @@ fn main() -> anyhow::Result<()> {
     let scene = args.common.scene_with(Technique::RayTraced)?;
     let (width, height) = args.common.size;
     let mut desc = RendererDesc::new(width, height);
-    args.common.apply_score(&mut desc);
+    args.common.apply(&mut desc);
     if args.common.window {
         return common::window::run(&args.common, "ray_traced", scene, desc);
     }

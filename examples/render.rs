@@ -39,7 +39,8 @@ fn main() -> anyhow::Result<()> {
         None => umbra::scene::load(&args.common.scene)?,
     };
     let (width, height) = args.common.size;
-    let desc = RendererDesc::new(width, height);
+    let mut desc = RendererDesc::new(width, height);
+    args.common.apply(&mut desc);
     if args.common.window {
         return common::window::run(&args.common, "render", scene, desc);
     }

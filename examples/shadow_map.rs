@@ -51,7 +51,7 @@ fn main() -> anyhow::Result<()> {
         normal_offset: args.normal_offset,
         outside_lit: !args.outside_shadowed,
     };
-    args.common.apply_score(&mut desc);
+    args.common.apply(&mut desc);
     if args.common.window {
         return common::window::run(&args.common, "shadow_map", scene, desc);
     }

@@ -73,7 +73,7 @@ fn main() -> anyhow::Result<()> {
         overdraw: args.show_volumes,
         ..ShadowVolumeSettings::default()
     };
-    args.common.apply_score(&mut desc);
+    args.common.apply(&mut desc);
     if args.common.window {
         return common::window::run(&args.common, "shadow_volume", scene, desc);
     }

@@ -90,7 +90,7 @@ fn main() -> anyhow::Result<()> {
     let (width, height) = args.common.size;
     let mut desc = RendererDesc::new(width, height);
     desc.shadow_map = ShadowMapSettings { resolution: args.sm_size, ..ShadowMapSettings::DEFAULT };
-    args.common.apply_score(&mut desc);
+    args.common.apply(&mut desc);
     // The silhouette-pixel count comes from the diagnostics pass (left out of the total).
     desc.diagnostics = true;
     if args.common.window {

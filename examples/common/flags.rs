@@ -18,6 +18,9 @@ pub const MAX_TIME_SECONDS: f32 = 1e6;
 /// which names the limit): the bench's parser, so every binary reads sizes alike.
 pub use umbra_bench::parse_size;
 
+/// `--volume-build`: auto, cpu or gpu (the bench's parser).
+pub use umbra_bench::parse_volume_build;
+
 /// A finite `f32` in `min..=max`.
 fn finite_in(s: &str, min: f32, max: f32) -> Result<f32, String> {
     let v = s.trim().parse::<f32>().map_err(|e| format!("{s:?}: {e}"))?;

@@ -62,12 +62,18 @@ pub struct CommonArgs {
     /// CPU from each pixel of the frame's G-buffer) and print its wrong pixels (headless only).
     #[arg(long, conflicts_with = "window")]
     pub score: bool,
+    /// Where shadow volumes (shadow_volume, hybrid) are built: auto (on the GPU where the device
+    /// allows it), cpu or gpu.
+    #[arg(long, default_value = "auto", value_parser = flags::parse_volume_build)]
+    pub volume_build: umbra::shadows::VolumeBuild,
 }
 
 impl CommonArgs {
-    /// Turns on what `--score` reads: the G-buffer, the diagnostics and the visibility images.
+    /// Sets what the shared flags ask of the renderer: `--volume-build`, and what `--score`
+    /// reads (the G-buffer, the diagnostics and the visibility images).
     #[allow(dead_code)]
-    pub fn apply_score(&self, desc: &mut umbra::shadows::RendererDesc) {
+    pub fn apply(&self, desc: &mut umbra::shadows::RendererDesc) {
+        desc.shadow_volume.build = self.volume_build;
         if self.score {
             desc.gbuffer = true;
             desc.diagnostics = true;

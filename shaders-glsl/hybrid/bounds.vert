@@ -62,6 +62,55 @@ vec2 grown_corner(vec3 c[3], uint k, float texel) {
     return vec2(ri * uj.y - rj * ui.y, ui.x * rj - uj.x * ri) / m;
 }
 
+// The box (NDC) of the part of triangle c (homogeneous corners, a perspective view) in front
+// of w = w_min and inside the view grown to |x|, |y| <= grow w; false where nothing is.
+// Sutherland–Hodgman in homogeneous coordinates: a triangle reaching behind the light's plane
+// is boxed by the part of it the view can see, not by its corners' projections, which reach
+// arbitrarily far out (a floor's underside, beside a point light, fills a strip of a side face,
+// not all of it).
+bool seen_box(vec3 c[3], float w_min, float grow, out vec2 lo, out vec2 hi) {
+    // Each plane keeps dot(plane.xyz, v) + plane.w >= 0.
+    const int PLANES = 5;
+    vec4 planes[PLANES] = vec4[PLANES](vec4(0.0, 0.0, 1.0, -w_min), vec4(-1.0, 0.0, grow, 0.0),
+        vec4(1.0, 0.0, grow, 0.0), vec4(0.0, -1.0, grow, 0.0), vec4(0.0, 1.0, grow, 0.0));
+    vec3 poly[8];
+    poly[0] = c[0];
+    poly[1] = c[1];
+    poly[2] = c[2];
+    int n = 3;
+    for (int p = 0; p < PLANES; ++p) {
+        vec3 kept[8];
+        int m = 0;
+        for (int i = 0; i < n; ++i) {
+            vec3 a = poly[i];
+            vec3 b = poly[(i + 1) % n];
+            float da = dot(planes[p].xyz, a) + planes[p].w;
+            float db = dot(planes[p].xyz, b) + planes[p].w;
+            if (da >= 0.0) {
+                kept[m++] = a;
+            }
+            if ((da >= 0.0) != (db >= 0.0) && m < 8) {
+                kept[m++] = mix(a, b, da / (da - db));
+            }
+        }
+        n = m;
+        for (int i = 0; i < n; ++i) {
+            poly[i] = kept[i];
+        }
+        if (n == 0) {
+            return false;
+        }
+    }
+    lo = vec2(1e30);
+    hi = vec2(-1e30);
+    for (int i = 0; i < n; ++i) {
+        vec2 v = poly[i].xy / max(poly[i].z, w_min);
+        lo = min(lo, v);
+        hi = max(hi, v);
+    }
+    return true;
+}
+
 void main() {
     Light l = lights[bounds_light()];
     mat4 view = shadow_views[uint(l.spot_params.w) + bounds_face()];
@@ -110,6 +159,13 @@ void main() {
     covers = any(lessThan(hi - lo, vec2(2.0 * l.shadow_params.y))) ? 0u : 1u;
     // One texel (2 / size in NDC) around the box, clamped just outside the view.
     float pad = 2.0 * l.shadow_params.y * 1.05;
+    vec3 c[3] = vec3[3](clip[0].xyw, clip[1].xyw, clip[2].xyw);
+    // Reaching behind the light's plane: the box of what the view, grown by two such texels,
+    // can see of it (a texel square touching the triangle lies in the view grown by one).
+    if (!in_front && !seen_box(c, w_min, 1.0 + 2.0 * pad, lo, hi)) {
+        gl_Position = DROPPED;
+        return;
+    }
     lo = max(lo - pad, vec2(-1.0 - pad));
     hi = min(hi + pad, vec2(1.0 + pad));
     if (any(greaterThan(lo, hi))) {
@@ -118,7 +174,6 @@ void main() {
     }
     box = vec4(lo, hi);
     uint k = uint(gl_VertexIndex) % 3u;
-    vec3 c[3] = vec3[3](clip[0].xyw, clip[1].xyw, clip[2].xyw);
     if (in_front && !bounds_edge_on(c[0], c[1], c[2], 2e-6)) {
         gl_Position = vec4(grown_corner(c, k, l.shadow_params.y), 0.5, 1.0);
         return;

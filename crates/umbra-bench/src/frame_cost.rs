@@ -23,20 +23,12 @@ pub struct FrameCostArgs {
     /// Frames per scene and technique (at least 21: the first, then two windows of 10).
     #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u32).range(21..=100_000))]
     frames: u32,
-    /// Where shadow volumes (sv, hybrid) are built: cpu or gpu (`ShadowVolumeSettings::build`).
-    #[arg(long, default_value = "cpu", value_parser = parse_build)]
+    /// Where shadow volumes (sv, hybrid) are built: auto, cpu or gpu
+    /// (`ShadowVolumeSettings::build`).
+    #[arg(long, default_value = "auto", value_parser = crate::parse_volume_build)]
     volume_build: VolumeBuild,
     #[command(flatten)]
     lights: scenes::LightArgs,
-}
-
-/// `cpu` or `gpu`.
-fn parse_build(s: &str) -> Result<VolumeBuild, String> {
-    match s {
-        "cpu" => Ok(VolumeBuild::Cpu),
-        "gpu" => Ok(VolumeBuild::Gpu),
-        _ => Err(format!("{s:?}: expected cpu or gpu")),
-    }
 }
 
 /// Renders every scene × technique `frames` times with one renderer (the lights changed as

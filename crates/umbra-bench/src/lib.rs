@@ -88,6 +88,17 @@ pub fn parse_light_range(s: &str) -> Result<f32, String> {
     }
 }
 
+/// Parses where shadow volumes are built: `auto`, `cpu` or `gpu`.
+pub fn parse_volume_build(s: &str) -> Result<umbra_shadows::VolumeBuild, String> {
+    use umbra_shadows::VolumeBuild;
+    match s {
+        "auto" => Ok(VolumeBuild::Auto),
+        "cpu" => Ok(VolumeBuild::Cpu),
+        "gpu" => Ok(VolumeBuild::Gpu),
+        _ => Err(format!("{s:?}: expected auto, cpu or gpu")),
+    }
+}
+
 /// Parses `WIDTHxHEIGHT`, each side at least 1.
 pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("{s:?} is not WIDTHxHEIGHT"))?;

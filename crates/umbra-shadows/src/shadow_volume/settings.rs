@@ -83,12 +83,17 @@ impl HostClip {
     }
 }
 
-/// Where shadow volumes are built (issue #26).
+/// Where shadow volumes are built.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum VolumeBuild {
-    /// On the host, every frame (`build.rs`, the reference implementation).
+    /// On the GPU wherever the device allows it ([`VolumeBuild::Gpu`]: a graphics queue that
+    /// runs compute, and a rasterizer whose clipping needs no host clipping), else on the host
+    /// ([`VolumeBuild::Cpu`]; SwiftShader, whose clipping is not watertight). The frame
+    /// report's `shadow_volume.gpu_built` says which.
     #[default]
+    Auto,
+    /// On the host, every frame (`build.rs`, the reference implementation).
     Cpu,
     /// In compute (`gpu.rs`): each mesh's adjacency uploaded once, then per caster and light
     /// the triangles' facing and the silhouette edges found on the GPU and the volume drawn
@@ -116,7 +121,8 @@ pub struct ShadowVolumeSettings {
     /// needs it).
     #[serde(default)]
     pub host_clip: HostClip,
-    /// Where the volumes are built ([`VolumeBuild`]; default: on the host).
+    /// Where the volumes are built ([`VolumeBuild`]; default: on the GPU where the device
+    /// allows it).
     #[serde(default)]
     pub build: VolumeBuild,
 }

@@ -301,7 +301,7 @@ impl Shadows {
         let scene = &self.registry.scene;
         let on_cpu =
             |t: Technique| t == Technique::Auto || needs(t).volumes.is_some() || needs(t).silhouette || needs(t).rays;
-        let gpu_volumes = self.desc.settings.shadow_volume.build == crate::VolumeBuild::Gpu;
+        let gpu_volumes = self.renderer.techniques.volumes_on_gpu();
         for o in scene.objects.iter().filter(|o| o.casts_shadows && engine.get(o.mesh).is_some_and(Option::is_some)) {
             let deforms = self.renderer.techniques.deforming.holds(o.mesh);
             let refused = |t: Technique| on_cpu(t) && !(deforms && gpu_volumes && t == Technique::ShadowVolume);

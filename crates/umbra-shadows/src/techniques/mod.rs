@@ -232,6 +232,12 @@ impl Techniques {
         self.shadow_map.settings()
     }
 
+    /// Whether shadow volumes are built on the GPU (`shadow_volume.build`, `Auto` resolved for
+    /// the device).
+    pub fn volumes_on_gpu(&self) -> bool {
+        self.gpu_volumes.is_some()
+    }
+
     /// Light `light`'s shadow map (while it has one).
     pub fn shadow_map_image(&self, light: usize) -> RenderResult<&Image> {
         self.shadow_map.image(light)
@@ -239,8 +245,9 @@ impl Techniques {
 }
 
 /// The GPU path of shadow volumes, when `setup` asks for it: refused (naming the setting) where
-/// the device needs volumes clipped on the host, or on a graphics queue that runs no compute.
-/// In umbra's own frames the counts are read back for the report.
+/// the device needs volumes clipped on the host, or on a graphics queue that runs no compute;
+/// `VolumeBuild::Auto` then builds them on the host instead. In umbra's own frames the counts
+/// are read back for the report.
 fn gpu_volumes(
     ctx: &Context,
     setup: &Setup,
@@ -249,11 +256,17 @@ fn gpu_volumes(
     bounds: bool,
 ) -> RenderResult<Option<GpuVolumes>> {
     let settings = &setup.shadow_volume;
-    if settings.build != VolumeBuild::Gpu {
-        return Ok(None);
-    }
-    let refuse = |why: &str| {
-        Err(RenderError::InvalidInput { field: "shadow_volume.build".into(), why: format!("VolumeBuild::Gpu {why}") })
+    let asked = match settings.build {
+        VolumeBuild::Cpu => return Ok(None),
+        VolumeBuild::Gpu => true,
+        VolumeBuild::Auto => false,
+    };
+    let refuse = |why: &str| match asked {
+        true => {
+            let why = format!("VolumeBuild::Gpu {why}");
+            Err(RenderError::InvalidInput { field: "shadow_volume.build".into(), why })
+        }
+        false => Ok(None),
     };
     if input == VolumeInput::HostClipped {
         return refuse(
