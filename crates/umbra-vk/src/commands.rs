@@ -685,22 +685,6 @@ impl<'a> Recorder<'a> {
         };
     }
 
-    /// Clears every layer of a float colour image (in `TransferDst`) to `value`.
-    pub fn clear_color_image(&mut self, image: &'a Image, value: [f32; 4]) {
-        let range = image.range(0, image.desc.layers);
-        let value = vk::ClearColorValue { float32: value };
-        // SAFETY: alive for 'a; in TRANSFER_DST_OPTIMAL (caller transitions); TRANSFER_DST usage.
-        unsafe {
-            self.device().cmd_clear_color_image(
-                self.cmd,
-                image.raw,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                &value,
-                &[range],
-            )
-        };
-    }
-
     /// Resets every query of a pool (record before the first write of a frame).
     pub fn reset_queries(&mut self, pool: &'a QueryPool) {
         // SAFETY: alive for 'a; outside a rendering pass.

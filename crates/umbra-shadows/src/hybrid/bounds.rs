@@ -108,12 +108,13 @@ impl BoundsPass {
             }
             false => None,
         };
-        let usage = vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST;
-        let placeholder = Image::new(ctx, "no hybrid bounds", bounds_desc(1, 1).usage(usage))?;
+        let placeholder = Image::new(ctx, "no hybrid bounds", bounds_desc(1, 1))?;
         let mut rec = ctx.begin_commands("clear the hybrid bounds placeholder")?;
-        rec.transition(&[(&placeholder, ImageState::Undefined, ImageState::TransferDst)]);
-        rec.clear_color_image(&placeholder, NOTHING);
-        rec.transition(&[(&placeholder, ImageState::TransferDst, ImageState::FragmentRead)]);
+        rec.transition(&[(&placeholder, ImageState::Undefined, ImageState::ColorAttachment)]);
+        let clear = [ColorAttachment { image: &placeholder, view: None, clear: Some(NOTHING) }];
+        rec.begin_rendering(&RenderTargets { color: &clear, depth: None });
+        rec.end_rendering();
+        rec.transition(&[(&placeholder, ImageState::ColorAttachment, ImageState::FragmentRead)]);
         ctx.submit_and_wait(rec)?;
         let placeholder_array = placeholder.array_view("no hybrid bounds (array)")?;
         Ok(Self {
