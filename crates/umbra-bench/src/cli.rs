@@ -67,9 +67,10 @@ struct SweepArgs {
     /// Techniques, by short name (every technique that shadows a light by default).
     #[arg(long, value_delimiter = ',', default_values_t = sweep::short_names())]
     techniques: Vec<String>,
-    /// Shadow-map sizes (sm, silmap, hybrid), each at least 64.
-    #[arg(long, value_delimiter = ',', default_value = "256,512,1024,2048,4096", value_parser = crate::sm_size_parser())]
-    sm_sizes: Vec<u32>,
+    /// Shadow-map sizes (sm, silmap, hybrid, hybrid-rt), each at least 64, or `default` for
+    /// the size the renderer picks by default.
+    #[arg(long, value_delimiter = ',', default_value = "256,512,1024,2048,4096", value_parser = crate::parse_sweep_size)]
+    sm_sizes: Vec<Option<u32>>,
     /// Shadow-map filters (sm): nearest, pcf2x2, pcf3x3, pcf5x5.
     #[arg(long, value_delimiter = ',', default_value = "nearest,pcf2x2")]
     filters: Vec<ShadowFilter>,
@@ -281,5 +282,7 @@ mod tests {
         }
         let ok = ["umbra-bench", "sweep", "--frames", "1", "--warmup", "0", "--sm-sizes", "64", "--light-range", "5"];
         assert!(Cli::try_parse_from(ok).is_ok());
+        let default = ["umbra-bench", "sweep", "--sm-sizes", "default,256"];
+        assert!(Cli::try_parse_from(default).is_ok());
     }
 }

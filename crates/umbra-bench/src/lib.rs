@@ -78,6 +78,20 @@ pub(crate) fn sm_size_parser() -> clap::builder::RangedI64ValueParser<u32> {
     clap::value_parser!(u32).range(i64::from(umbra_shadows::ShadowMapSettings::MIN_RESOLUTION)..)
 }
 
+/// Parses a sweep's map size: a resolution of at least `ShadowMapSettings::MIN_RESOLUTION`,
+/// or `default` (`None`: the size the renderer picks by default).
+pub fn parse_sweep_size(s: &str) -> Result<Option<u32>, String> {
+    let min = umbra_shadows::ShadowMapSettings::MIN_RESOLUTION;
+    match s.trim() {
+        "default" => Ok(None),
+        t => match t.parse::<u32>() {
+            Ok(v) if v >= min => Ok(Some(v)),
+            Ok(v) => Err(format!("{v} is below the least map size, {min}")),
+            Err(e) => Err(format!("{t:?}: {e} (a size of at least {min}, or `default`)")),
+        },
+    }
+}
+
 /// Parses a light range: a finite distance above 0, at most `umbra_scene::MAX_COORDINATE`.
 pub fn parse_light_range(s: &str) -> Result<f32, String> {
     let v = s.trim().parse::<f32>().map_err(|e| format!("{s:?}: {e}"))?;

@@ -187,6 +187,10 @@ pub struct Record {
     pub recorded_passes: usize,
     /// The same configuration without planning (`--no-cull`).
     pub no_cull: Option<NoCull>,
+    /// Texels per side of the first shadowed light's map in the last frame: the size the
+    /// renderer picked where the configuration names none (`None`: no map).
+    #[serde(default)]
+    pub map_resolution: Option<u32>,
 }
 
 /// A configuration measured again with `RendererDesc::cull` off.

@@ -18,8 +18,8 @@ pub struct Plan {
     pub scenes: Vec<String>,
     /// Short technique names.
     pub techniques: Vec<&'static str>,
-    /// Shadow-map sizes.
-    pub sm_sizes: Vec<u32>,
+    /// Shadow-map sizes (`None`: the renderer's default).
+    pub sm_sizes: Vec<Option<u32>>,
     /// Shadow-map filters.
     pub filters: Vec<ShadowFilter>,
     /// Hybrid computation masks.
@@ -60,23 +60,23 @@ impl Plan {
         for &t in &self.techniques {
             match t {
                 "sm" => {
-                    for &s in &self.sm_sizes {
+                    for &sm_size in &self.sm_sizes {
                         for f in &self.filters {
-                            out.push(Config { sm_size: Some(s), filter: Some(f.name()), ..base(t) });
+                            out.push(Config { sm_size, filter: Some(f.name()), ..base(t) });
                         }
                     }
                 }
-                "silmap" => out.extend(self.sm_sizes.iter().map(|&s| Config { sm_size: Some(s), ..base(t) })),
+                "silmap" => out.extend(self.sm_sizes.iter().map(|&sm_size| Config { sm_size, ..base(t) })),
                 "hybrid-rt" => {
                     for bvh in bvhs() {
-                        out.extend(self.sm_sizes.iter().map(|&s| Config { sm_size: Some(s), bvh, ..base(t) }));
+                        out.extend(self.sm_sizes.iter().map(|&sm_size| Config { sm_size, bvh, ..base(t) }));
                     }
                 }
                 "rt" => out.extend(bvhs().map(|bvh| Config { bvh, ..base(t) })),
                 "hybrid" => {
-                    for &s in &self.sm_sizes {
+                    for &sm_size in &self.sm_sizes {
                         for m in &self.masks {
-                            out.push(Config { sm_size: Some(s), mask: Some(m.name()), ..base(t) });
+                            out.push(Config { sm_size, mask: Some(m.name()), ..base(t) });
                         }
                     }
                 }
@@ -205,6 +205,7 @@ pub fn measure(
         error_image: format!("images/{}-error.png", config.id()),
         recorded_passes: r.passes.len(),
         no_cull,
+        map_resolution: r.lights.iter().find_map(|l| l.shadow_map.as_ref()).map(|m| m.resolution),
     };
     Ok(Ok(Measured { record, image: last.rgba.clone(), error_image }))
 }

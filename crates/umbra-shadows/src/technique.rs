@@ -28,8 +28,13 @@ pub(crate) enum Casters {
 pub(crate) enum MapSize {
     /// `ShadowMapSettings::resolution`.
     Settings,
-    /// `HybridSettings::resolution`, by default below the frame's size.
-    Hybrid,
+    /// `HybridSettings::resolution`; by default the size a shadow map would get from the frame
+    /// (`ShadowMapSettings::resolution_from_frame`) divided by `coarser`: the map only
+    /// classifies, so a coarser one trades more silhouette pixels for cheaper bounds.
+    Hybrid {
+        /// How many times coarser than a shadow map's the default size is (a power of two).
+        coarser: u32,
+    },
 }
 
 /// How a technique's volumes are counted.
@@ -104,8 +109,9 @@ pub(crate) fn needs(technique: Technique) -> Needs {
             classified: true,
             ..base
         },
+        // Its silhouette pixels' volumes cost little: half a shadow map's size by default.
         Technique::Hybrid => Needs {
-            map: Some(MapSize::Hybrid),
+            map: Some(MapSize::Hybrid { coarser: 2 }),
             volumes: Some(Volumes::ZFailWithMap),
             // Its classification reads the whole frame's depth: no scissor.
             bounded: false,
@@ -118,9 +124,10 @@ pub(crate) fn needs(technique: Technique) -> Needs {
         Technique::RayTraced => Needs { casters: Casters::Volumes, rays: true, ..base },
         // The hybrid's map and classification, rays for its volumes: as exact as
         // `RayTraced`, so its casters are the same.
+        // Its silhouette pixels' rays cost more: a shadow map's size by default.
         Technique::HybridRt => Needs {
             casters: Casters::Volumes,
-            map: Some(MapSize::Hybrid),
+            map: Some(MapSize::Hybrid { coarser: 1 }),
             bounded: false,
             rays: true,
             lighting: Lighting::Hybrid,

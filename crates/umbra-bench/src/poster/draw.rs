@@ -57,7 +57,7 @@ pub fn save(poster: &Poster, measured: &[Measured], path: &Path) -> BenchResult<
             let r = &m.record;
             let header = technique_title(r.config.technique);
             root.draw(&Text::new(header, (x, TITLE_H as i32), text(22, &BLACK))).map_err(|e| err(&e))?;
-            let detail = config_detail(&r.config);
+            let detail = config_detail(&r.config, r.map_resolution);
             root.draw(&Text::new(detail, (x, TITLE_H as i32 + 26), text(15, &RGBColor(90, 90, 90))))
                 .map_err(|e| err(&e))?;
             let y = (TITLE_H + HEADER_H + 2 * h + GAP + 8) as i32;
@@ -93,9 +93,14 @@ pub fn save(poster: &Poster, measured: &[Measured], path: &Path) -> BenchResult<
     image::save_buffer(path, &rgb, width, height, image::ColorType::Rgb8).map_err(|e| err(&e))
 }
 
-/// `1024² map, PCF 2×2`, `1024² map, stencil mask`, `z-fail/z-pass per caster`.
-fn config_detail(c: &crate::record::Config) -> String {
-    let map = c.sm_size.map(|s| format!("{s}² map"));
+/// `1024² map, PCF 2×2`, `256² map (default), stencil mask`, `z-fail/z-pass per caster`:
+/// `resolution` is the map's size where the configuration names none.
+fn config_detail(c: &crate::record::Config, resolution: Option<u32>) -> String {
+    let map = match (c.sm_size, resolution) {
+        (Some(s), _) => Some(format!("{s}² map")),
+        (None, Some(s)) => Some(format!("{s}² map (default)")),
+        (None, None) => None,
+    };
     let rest = match (c.technique, c.filter, c.mask) {
         (_, Some(f), _) => Some(format!("{f} filter")),
         (_, _, Some(m)) => Some(format!("{m} computation mask")),

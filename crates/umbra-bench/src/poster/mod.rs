@@ -27,9 +27,13 @@ pub struct PosterArgs {
     /// Image size per technique, WIDTHxHEIGHT.
     #[arg(long, default_value = "512x384", value_parser = crate::parse_size)]
     pub size: (u32, u32),
-    /// Shadow-map size of the shadow map, the silhouette map and the hybrid (at least 64).
+    /// Shadow-map size of the shadow map and the silhouette map (at least 64).
     #[arg(long, default_value_t = 1024, value_parser = crate::sm_size_parser())]
     pub sm_size: u32,
+    /// Map size of the hybrid and the ray-traced hybrid, whose maps only classify pixels (at
+    /// least 64; default: the size the renderer picks for the frame).
+    #[arg(long, value_parser = crate::sm_size_parser())]
+    pub hybrid_size: Option<u32>,
     /// The shadow map's filter: nearest, pcf2x2, pcf3x3, pcf5x5.
     #[arg(long, default_value = "pcf2x2")]
     pub filter: ShadowFilter,
@@ -64,7 +68,7 @@ pub struct Poster {
     pub width: u32,
     /// Image size per technique.
     pub height: u32,
-    /// The `umbra-bench sweep` command whose records equal [`Poster::records`].
+    /// The `umbra-bench sweep` command whose records include [`Poster::records`].
     pub bench_command: String,
     /// One record per technique, exactly as the sweep writes them to `results.json`.
     pub records: Vec<Record>,
@@ -81,8 +85,12 @@ pub fn configs(args: &PosterArgs, depth_bounds: bool) -> Vec<Config> {
         .map(|technique| Config {
             scene: args.scene.clone(),
             technique,
-            // Shadow volumes and shadow rays have no map.
-            sm_size: (!matches!(technique, "sv" | "rt")).then_some(args.sm_size),
+            // Shadow volumes and shadow rays have no map; the hybrids' only classifies.
+            sm_size: match technique {
+                "sv" | "rt" => None,
+                "hybrid" | "hybrid-rt" => args.hybrid_size,
+                _ => Some(args.sm_size),
+            },
             filter: (technique == "sm").then_some(args.filter.name()),
             mask: (technique == "hybrid").then_some(mask.name()),
             bvh: None,
@@ -90,15 +98,21 @@ pub fn configs(args: &PosterArgs, depth_bounds: bool) -> Vec<Config> {
         .collect()
 }
 
-/// The sweep command that measures the same configurations.
+/// The sweep command that measures the same configurations (among others, where the hybrids'
+/// map size differs from the others').
 pub fn bench_command(args: &PosterArgs, depth_bounds: bool) -> String {
     let mask = args.mask.unwrap_or(MaskKind::best_for(depth_bounds));
+    let sizes = match args.hybrid_size {
+        Some(s) if s == args.sm_size => s.to_string(),
+        Some(s) => format!("{},{s}", args.sm_size),
+        None => format!("{},default", args.sm_size),
+    };
     format!(
         "umbra-bench sweep --scenes {} --techniques {} --sm-sizes {} --filters {} --masks {} --size {}x{} \
          --frames {} --warmup {}{}{}",
         args.scene,
         sweep::TECHNIQUES.iter().map(|t| t.short()).collect::<Vec<_>>().join(","),
-        args.sm_size,
+        sizes,
         args.filter.name(),
         mask.name(),
         args.size.0,

@@ -79,9 +79,12 @@ pub const COUNT_BITS: u32 = 0x7f;
 /// How lights whose technique is `hybrid` are rendered.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct HybridSettings {
-    /// Shadow-map texels per side (a light's `shadow_map_size` wins); `None`:
-    /// [`ShadowMapSettings::resolution_from_frame`](crate::ShadowMapSettings::resolution_from_frame),
-    /// from the frame.
+    /// Texels per side of the light's map and depth bounds, which only classify pixels (a
+    /// light's `shadow_map_size` wins); `None`: from the frame, half the size
+    /// [`ShadowMapSettings::resolution_from_frame`](crate::ShadowMapSettings::resolution_from_frame)
+    /// gives a shadow map for the hybrid (a coarser map leaves more silhouette pixels to the
+    /// volumes, which cost less there than finer bounds), the same size for the ray-traced
+    /// hybrid (whose silhouette pixels' rays cost more); at least 64.
     pub resolution: Option<u32>,
     /// The computation mask; `None`: [`MaskKind::best_for`] the device.
     pub mask: Option<MaskKind>,

@@ -177,17 +177,14 @@ impl Techniques {
                 continue;
             };
             let silhouette = needs(plan.technique).silhouette;
-            let set = match needs(plan.technique).map {
-                Some(MapSize::Hybrid) => self.setup.hybrid.resolution,
-                Some(MapSize::Settings) | None => settings.resolution,
+            let (set, coarser) = match needs(plan.technique).map {
+                Some(MapSize::Hybrid { coarser }) => (self.setup.hybrid.resolution, coarser),
+                Some(MapSize::Settings) | None => (settings.resolution, 1),
             };
             let resolution = source.shadow_map_size.or(set).unwrap_or_else(|| {
-                self.grid_samples.resolution_from_frame(
-                    plan.light,
-                    &views,
-                    view.seen(self.setup.height),
-                    self.setup.width,
-                )
+                let seen = view.seen(self.setup.height);
+                let fine = self.grid_samples.resolution_from_frame(plan.light, &views, seen, self.setup.width);
+                (fine / coarser).max(crate::ShadowMapSettings::MIN_RESOLUTION)
             });
             if silhouette {
                 // A cube's silhouette map: six faces with borders in one atlas (`atlas.rs`).
@@ -203,7 +200,7 @@ impl Techniques {
             let map_bytes = self.shadow_map.check(ctx, plan.light, resolution, views.kind)?;
             // The hybrid's depth bounds: two floats per texel of the map's faces; its depth map
             // only where blocker culling queries it.
-            let bounds = needs(plan.technique).map == Some(MapSize::Hybrid);
+            let bounds = matches!(needs(plan.technique).map, Some(MapSize::Hybrid { .. }));
             let volumes = needs(plan.technique).volumes.is_some();
             let depth = !bounds || (self.setup.hybrid.cull_blockers && volumes);
             let mut bytes = if depth { map_bytes } else { 0 };
