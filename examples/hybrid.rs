@@ -27,9 +27,9 @@ use umbra::shadows::{HybridSettings, LightDiagnostics, MaskKind, Renderer, Rende
 struct Args {
     #[command(flatten)]
     common: common::CommonArgs,
-    /// Shadow-map resolution, texels per side (default: from the frame, a texel about a pixel
-    /// on what the camera sees, within a budget; see ShadowMapSettings::resolution_from_frame): at
-    /// least 64, at most what the device takes.
+    /// Shadow-map resolution, texels per side (default: from the frame, half the size a shadow
+    /// map gets there, which brings a texel to about a pixel on what the camera sees, within a
+    /// budget; see HybridSettings::resolution): at least 64, at most what the device takes.
     #[arg(long, value_parser = common::flags::parse_sm_size)]
     sm_size: Option<u32>,
     /// Computation mask: depth-bounds, stencil or none (default: depth-bounds where the
