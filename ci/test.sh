@@ -32,15 +32,33 @@ echo "== build"
 cargo build --workspace --all-targets --locked
 
 failed=()
+logs="${CARGO_TARGET_DIR}/test-logs"
+mkdir -p "$logs"
+rm -f "$logs"/*.log
 for device in $UMBRA_DRIVERS; do
     echo "== tests on $device (validation on)"
-    if ! UMBRA_DEVICE=$device cargo test --workspace --locked --no-fail-fast -- --test-threads=2 --show-output; then
+    log="$logs/$device.log"
+    if UMBRA_DEVICE=$device cargo test --workspace --locked --no-fail-fast -- --test-threads=2 --show-output 2>&1 |
+        tee "$log"; then
+        continue
+    fi
+    # A test binary that died of a signal (the process, not an assertion) is run once more,
+    # and said so: drivers and the validation layer have crashed a test process
+    # intermittently. A failed assertion, or a second crash, fails the suite.
+    if ! bash ci/rerun-crashed.sh "$device" "$log"; then
         failed+=("$device")
     fi
 done
 
 if [ ${#failed[@]} -gt 0 ]; then
+    # The log's tail is what a CI summary shows: what failed, after everything else.
+    for device in "${failed[@]}"; do
+        echo "== what failed on $device (whole log: $logs/$device.log)"
+        bash ci/failures.sh "$logs/$device.log"
+    done
     echo "test: FAILED on ${failed[*]}" >&2
     exit 1
 fi
+# A crash that passed when run again is not hidden: the last lines say so.
+grep -h "when run again, after a crash" "$logs"/*.log || true
 echo "test: all tests passed on $UMBRA_DRIVERS"
